@@ -1,0 +1,227 @@
+// frnn::grid: fixed-radius neighbor search over one point set.
+//
+// Two points i != j are neighbors when |x_i - x_j| <= r (the real radius, never its square),
+// with minimum-image distances when the grid is periodic.
+//
+// Construction is a counting sort of the points by cell (per-cell counts with an index inside
+// the cell, exclusive prefix sum, stable scatter), so the grid keeps a copy of the points in
+// cell order plus the map between that order and the caller's. Build is O(N + cells); a query
+// visits the (2*ceil(r/cell)+1)^d cells around a point. Cells are ordered row by row (x
+// fastest), so the cells of one stencil row are one contiguous run of sorted points.
+//
+// The uniform grid covers a bounded box; the hashed grid keys cells by integer coordinates in a
+// table sized from N, so far outliers cost nothing. Hash collisions are verified by cell
+// coordinates and never change a result.
+//
+// Results are deterministic: identical, bit for bit, for any thread count.
+// Thread safety: const member functions may be called concurrently; build/rebuild may not run
+// concurrently with anything else on the same grid.
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "frnn/csr.hpp"
+#include "frnn/error.hpp"
+#include "frnn/options.hpp"
+
+namespace frnn {
+
+namespace detail {
+/// A run [begin, end) of sorted points to test. `filter` marks a run from a hash slot shared by
+/// several cells: its candidates must also lie in cell `cell`.
+struct candidate_run {
+    std::uint32_t begin, end;
+    bool filter;
+    std::array<std::int64_t, 3> cell;
+};
+/// Upper bound of runs around one point: (2k+1)^d with k <= 4.
+inline constexpr std::size_t max_runs = 729;
+}  // namespace detail
+
+template <class T, int D>
+class grid {
+    static_assert(D == 2 || D == 3, "frnn supports 2D and 3D points");
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+
+public:
+    using point = std::array<T, D>;
+
+    grid() = default;
+    /// Builds over `coords`, N*D interleaved values (x0 y0 [z0] x1 ...).
+    grid(std::span<const T> coords, T radius, const grid_options& options = {}) {
+        build(coords, radius, options);
+    }
+    void build(std::span<const T> coords, T radius, const grid_options& options = {});
+    /// Builds again over new coordinates with the same radius and options, reusing memory.
+    void rebuild(std::span<const T> coords);
+
+    std::size_t size() const { return perm_.size(); }
+    T radius() const { return radius_; }
+    grid_kind kind() const { return kind_; }          ///< uniform or hashed, never automatic
+    double cell_size(int axis = 0) const { return cell_[axis]; }
+    int reach() const { return reach_; }              ///< cells visited on each side
+    std::size_t cell_count() const { return slots_; } ///< cells (uniform) or table slots (hashed)
+    std::size_t nonempty_cells() const { return nonempty_; }
+    std::size_t memory_bytes() const;                 ///< bytes held by the structure
+    bool periodic() const { return periodic_; }
+    const grid_options& options() const { return options_; }
+    int threads() const;
+    void set_threads(int threads) { options_.threads = threads; }
+
+    /// sorted_to_original()[s] is the caller's index of the s-th point in cell order.
+    std::span<const std::uint32_t> sorted_to_original() const { return perm_; }
+    std::span<const std::uint32_t> original_to_sorted() const { return inverse_; }
+    /// Coordinate `axis` of the s-th point in cell order.
+    T sorted_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
+
+    /// Calls f(j, distance_squared) for every neighbor j of point i (caller's indices).
+    template <class F>
+    void for_each_neighbor(std::size_t i, F&& f) const {
+        check_index(i);
+        const std::uint32_t s = inverse_[i];
+        for_each_near_sorted(sorted_point(s), [&](std::uint32_t j, T d2) {
+            if (j != s) f(perm_[j], d2);
+        });
+    }
+    /// Same in cell order: s and the j passed to f index the sorted points. After the caller has
+    /// permuted its arrays with reorder(), these are the caller's indices too.
+    template <class F>
+    void for_each_neighbor_sorted(std::size_t s, F&& f) const {
+        if (s >= size()) throw_bad_index(s);
+        for_each_near_sorted(sorted_point(s), [&](std::uint32_t j, T d2) {
+            if (j != s) f(j, d2);
+        });
+    }
+    /// Calls f(j, distance_squared) for every grid point j (caller's index) within r of x.
+    template <class F>
+    void for_each_neighbor_of(const point& x, F&& f) const {
+        check_query_point(x, 0);
+        for_each_near_sorted(x, [&](std::uint32_t j, T d2) { f(perm_[j], d2); });
+    }
+
+    /// Number of neighbors of every point.
+    std::vector<std::uint32_t> count_neighbors(index_space space = index_space::original) const;
+    /// Neighbor lists of every point.
+    csr<T> neighbor_lists(const list_options& options = {}) const;
+    /// At most k nearest neighbors within r of every point, sorted by distance (ties by index).
+    csr<T> nearest(std::size_t k, const list_options& options = {}) const;
+    /// Points of this grid within r of each query point (N_q*D interleaved values): row q holds
+    /// grid indices. `half` and `self` do not apply; `space` numbers the grid's points.
+    csr<T> query(std::span<const T> queries, const list_options& options = {}) const;
+    std::vector<std::uint32_t> query_counts(std::span<const T> queries) const;
+    csr<T> query_nearest(std::span<const T> queries, std::size_t k,
+                         const list_options& options = {}) const;
+
+    /// Permutes the caller's array into cell order: data[s] <- old data[sorted_to_original[s]],
+    /// with `components` consecutive values per point (e.g. 3 for a velocity).
+    template <class U>
+    void reorder(std::span<U> data, std::size_t components = 1) const;
+    /// The inverse: brings an array in cell order back to the caller's order.
+    template <class U>
+    void restore_order(std::span<U> data, std::size_t components = 1) const;
+
+    /// The runs of sorted points whose cells lie within reach of x (internal, but public so
+    /// that other backends and bindings can share one traversal).
+    std::size_t candidate_runs(const point& x, detail::candidate_run* out) const;
+    /// Distance squared between x and sorted point j, with the minimum image when periodic.
+    T distance_squared_sorted(const point& x, std::uint32_t j) const {
+        T d2 = 0;
+        for (int a = 0; a < D; ++a) {
+            T d = pos_[a][j] - x[a];
+            if (periodic_) d -= box_[a] * std::nearbyint(d / box_[a]);
+            d2 += d * d;
+        }
+        return d2;
+    }
+    /// Integer cell coordinates of x (clamped to the uniform grid, wrapped when periodic).
+    std::array<std::int64_t, 3> cell_of(const point& x) const;
+
+private:
+    point sorted_point(std::uint32_t s) const {
+        point p;
+        for (int a = 0; a < D; ++a) p[a] = pos_[a][s];
+        return p;
+    }
+    template <class F>
+    void for_each_near_sorted(const point& x, F&& f) const {
+        detail::candidate_run runs[detail::max_runs];
+        const std::size_t n = candidate_runs(x, runs);
+        const T r2 = radius_ * radius_;
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto& run = runs[k];
+            for (std::uint32_t j = run.begin; j < run.end; ++j) {
+                if (run.filter && cell_of(sorted_point(j)) != run.cell) continue;
+                const T d2 = distance_squared_sorted(x, j);
+                if (d2 <= r2) f(j, d2);
+            }
+        }
+    }
+    void check_index(std::size_t i) const {
+        if (i >= size()) throw_bad_index(i);
+    }
+    [[noreturn]] void throw_bad_index(std::size_t i) const;
+    void check_query_point(const point& x, std::size_t index) const;
+    void configure(std::span<const T> coords);
+    void sort_into_cells(std::span<const T> coords);
+    void mark_mixed_slots();
+
+    // Configuration.
+    grid_options options_;
+    T radius_ = 0;
+    grid_kind kind_ = grid_kind::uniform;
+    bool periodic_ = false;
+    int reach_ = 1;
+    std::array<double, 3> origin_{};    // lower corner of cell (0,0,0)
+    std::array<double, 3> cell_{};      // effective cell edge per axis
+    std::array<double, 3> inv_cell_{};
+    std::array<std::int64_t, 3> dims_{1, 1, 1};  // cells per axis (uniform grid)
+    std::array<T, 3> box_{};            // periodic box lengths
+    std::size_t slots_ = 0;             // cells (uniform) or table slots (hashed, a power of 2)
+    std::size_t nonempty_ = 0;
+
+    // Structure.
+    std::array<std::vector<T>, D> pos_;     // points in cell order, one array per axis
+    std::vector<std::uint32_t> perm_;       // sorted -> original
+    std::vector<std::uint32_t> inverse_;    // original -> sorted
+    std::vector<std::uint32_t> offsets_;    // slots_ + 1 run starts
+    std::vector<std::uint64_t> mixed_;      // hashed: bit per slot holding points of several cells
+
+    // Build scratch, kept for rebuilds.
+    std::vector<std::uint32_t> point_slot_;
+    std::vector<std::uint32_t> thread_counts_;
+};
+
+template <class T, int D>
+template <class U>
+void grid<T, D>::reorder(std::span<U> data, std::size_t components) const {
+    if (data.size() != size() * components)
+        throw error("reorder: array has " + std::to_string(data.size()) + " values, expected " +
+                    std::to_string(size() * components));
+    std::vector<U> copy(data.begin(), data.end());
+    for (std::size_t s = 0; s < size(); ++s)
+        for (std::size_t c = 0; c < components; ++c)
+            data[s * components + c] = copy[std::size_t(perm_[s]) * components + c];
+}
+
+template <class T, int D>
+template <class U>
+void grid<T, D>::restore_order(std::span<U> data, std::size_t components) const {
+    if (data.size() != size() * components)
+        throw error("restore_order: array has " + std::to_string(data.size()) +
+                    " values, expected " + std::to_string(size() * components));
+    std::vector<U> copy(data.begin(), data.end());
+    for (std::size_t s = 0; s < size(); ++s)
+        for (std::size_t c = 0; c < components; ++c)
+            data[std::size_t(perm_[s]) * components + c] = copy[s * components + c];
+}
+
+extern template class grid<float, 2>;
+extern template class grid<float, 3>;
+extern template class grid<double, 2>;
+extern template class grid<double, 3>;
+
+}  // namespace frnn

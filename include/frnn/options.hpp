@@ -1,0 +1,57 @@
+// Options of grid construction and neighbor-list queries.
+// Plain value types; safe to copy and share between threads.
+#pragma once
+#include <string_view>
+#include <vector>
+
+namespace frnn {
+
+/// Which spatial structure a grid uses.
+enum class grid_kind {
+    automatic,  ///< uniform when its cell count is reasonable for N, hashed otherwise
+    uniform,    ///< dense cells over a bounded box (the points' bounding box or `domain_*`)
+    hashed,     ///< cells keyed by integer coordinates in a table sized from N: unbounded domains
+};
+
+/// "auto", "uniform" or "hash".
+std::string_view to_string(grid_kind kind);
+/// Parses "auto", "uniform", "hash"/"hashed"; throws frnn::error otherwise.
+grid_kind parse_grid_kind(std::string_view text);
+
+struct grid_options {
+    grid_kind kind = grid_kind::automatic;
+    /// Cell edge length; 0 means the radius. Smaller cells (r/2, r/3, r/4) visit
+    /// (2*ceil(r/cell)+1)^d cells but test fewer candidates. Must lie in [r/4, r].
+    double cell_size = 0;
+    /// Empty: open boundaries. Otherwise one box length per axis: the box is [0, L) on each
+    /// axis, distances use the minimum image, and every length must be >= 2 r.
+    std::vector<double> periodic;
+    /// Optional bounds of the uniform grid (one value per axis, both or neither). Points
+    /// outside are still handled exactly (they share the border cells). Default: bounding box.
+    std::vector<double> domain_min, domain_max;
+    /// Worker threads for build and bulk queries; 0 means all hardware threads.
+    int threads = 0;
+};
+
+/// Order of the entries inside each row of a neighbor list.
+enum class row_order {
+    none,      ///< traversal order: deterministic, cheapest
+    index,     ///< increasing neighbor index
+    distance,  ///< increasing distance, ties by index
+};
+
+/// Which numbering rows and neighbor indices use.
+enum class index_space {
+    original,  ///< the caller's point order
+    sorted,    ///< the grid's cell order (see grid::reorder): fastest, best locality
+};
+
+struct list_options {
+    bool half = false;        ///< only pairs with j > i (in the chosen index space)
+    bool distances = false;   ///< also return distances (not squared)
+    bool self = false;        ///< include i itself, at distance 0
+    row_order order = row_order::none;
+    index_space space = index_space::original;
+};
+
+}  // namespace frnn
