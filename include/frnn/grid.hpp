@@ -77,6 +77,10 @@ public:
     std::span<const std::uint32_t> original_to_sorted() const { return inverse_; }
     /// Coordinate `axis` of the s-th point in cell order.
     T sorted_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
+    /// All coordinates on `axis` in cell order (size() values).
+    const T* sorted_coords(int axis) const { return pos_[axis].data(); }
+    /// Sorted points [s, end) lie in one cell and share their candidate runs.
+    std::uint32_t cell_group_end(std::uint32_t s) const;
 
     /// Calls f(j, distance_squared) for every neighbor j of point i (caller's indices).
     template <class F>
@@ -165,9 +169,11 @@ private:
     }
     [[noreturn]] void throw_bad_index(std::size_t i) const;
     void check_query_point(const point& x, std::size_t index) const;
+    void validate_queries(std::span<const T> queries) const;
     void configure(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
     void mark_mixed_slots();
+    std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
 
     // Configuration.
     grid_options options_;

@@ -1,0 +1,424 @@
+// Grid geometry and construction: validation, choice of grid kind, and the counting sort
+// (per-thread cell counts, exclusive prefix sum, stable scatter).
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/hashing.hpp"
+#include "cpu/parallel.hpp"
+#include "frnn/grid.hpp"
+
+namespace frnn {
+
+namespace {
+
+// Cells are made this much larger than asked so that rounding in the cell computation can
+// never separate two points within r by more than `reach` cells.
+constexpr double cell_margin = 1.0 + 0x1p-20;
+// Cell coordinates beyond this magnitude are rejected: neighbors are found at +-reach, and the
+// coordinates must stay exact in a double.
+constexpr double max_cell_coordinate = 0x1p52;
+// A uniform grid may have at most this many cells when asked for explicitly.
+constexpr double max_uniform_cells = 0x1p31;
+
+std::string fmt_double(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+}  // namespace
+
+template <class T, int D>
+int grid<T, D>::threads() const {
+    return detail::resolve_threads(options_.threads);
+}
+
+template <class T, int D>
+void grid<T, D>::throw_bad_index(std::size_t i) const {
+    throw error("point index " + std::to_string(i) + " out of range (grid has " +
+                std::to_string(size()) + " points)");
+}
+
+template <class T, int D>
+void grid<T, D>::check_query_point(const point& x, std::size_t index) const {
+    for (int a = 0; a < D; ++a) {
+        if (!std::isfinite(x[a]))
+            throw error("query point " + std::to_string(index) + " has a non-finite coordinate (axis " +
+                        std::to_string(a) + ")");
+    }
+    if (periodic_) {
+        for (int a = 0; a < D; ++a) {
+            if (std::abs(double(x[a])) >= double(box_[a]) * 0x1p30)
+                throw error("query point " + std::to_string(index) +
+                            " lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
+        }
+    } else if (kind_ == grid_kind::hashed) {
+        for (int a = 0; a < D; ++a) {
+            if (std::abs(double(x[a]) * inv_cell_[a]) >= max_cell_coordinate)
+                throw error("query point " + std::to_string(index) + " is too far out: coordinate " +
+                            fmt_double(double(x[a])) + " is more than 2^52 cells from the origin");
+        }
+    }
+}
+
+template <class T, int D>
+std::array<std::int64_t, 3> grid<T, D>::cell_of(const point& x) const {
+    std::array<std::int64_t, 3> c{0, 0, 0};
+    for (int a = 0; a < D; ++a) {
+        const double v = double(x[a]);
+        if (periodic_) {
+            const double box = double(box_[a]);
+            double w = v - box * std::floor(v / box);
+            w = std::clamp(w * inv_cell_[a], 0.0, double(dims_[a] - 1));
+            c[a] = std::int64_t(w);
+        } else if (kind_ == grid_kind::uniform) {
+            const double u = std::clamp((v - origin_[a]) * inv_cell_[a], 0.0, double(dims_[a] - 1));
+            c[a] = std::int64_t(u);
+        } else {
+            c[a] = std::int64_t(std::floor(v * inv_cell_[a]));
+        }
+    }
+    return c;
+}
+
+template <class T, int D>
+std::size_t grid<T, D>::memory_bytes() const {
+    std::size_t bytes = 0;
+    for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
+    bytes += (perm_.capacity() + inverse_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t);
+    bytes += mixed_.capacity() * sizeof(std::uint64_t);
+    return bytes;
+}
+
+// Validates the input and chooses the geometry: kind, cell size, reach, dimensions.
+template <class T, int D>
+void grid<T, D>::configure(std::span<const T> coords) {
+    const grid_options& o = options_;
+    const double r = double(radius_);
+    if (!std::isfinite(r) || r <= 0)
+        throw error("radius must be finite and > 0 (got " + fmt_double(r) + ")");
+    if (coords.size() % D != 0)
+        throw error("coordinate array has " + std::to_string(coords.size()) +
+                    " values, not a multiple of the dimension " + std::to_string(D));
+    const std::size_t n = coords.size() / D;
+    if (n >= std::numeric_limits<std::uint32_t>::max())
+        throw error("too many points: " + std::to_string(n) + " (at most 2^32 - 2)");
+
+    const double asked = o.cell_size == 0 ? r : o.cell_size;
+    if (!std::isfinite(asked) || asked <= 0)
+        throw error("cell size must be finite and > 0 (got " + fmt_double(asked) + ")");
+    if (asked > r * (1 + 1e-12))
+        throw error("cell size " + fmt_double(asked) + " is larger than the radius " + fmt_double(r));
+    if (asked < r / 4 * (1 - 1e-12))
+        throw error("cell size " + fmt_double(asked) + " is smaller than radius/4 = " + fmt_double(r / 4));
+    const double cell = asked * cell_margin;
+    reach_ = int(std::ceil(r / cell));
+
+    // Finite coordinates, and the bounding box (first bad index reported).
+    std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    {
+        const int threads = detail::resolve_threads(o.threads);
+        const std::size_t parts = detail::chunk_count(n, threads, 1 << 15);
+        std::vector<std::size_t> first_bad(parts, n);
+        std::vector<std::array<double, 6>> box(parts);
+        detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            std::array<double, 6> bb;
+            for (int a = 0; a < 3; ++a) bb[a] = INFINITY, bb[3 + a] = -INFINITY;
+            for (std::size_t i = b; i < e; ++i) {
+                for (int a = 0; a < D; ++a) {
+                    const double v = double(coords[i * D + a]);
+                    if (!std::isfinite(v)) {
+                        first_bad[c] = i;
+                        box[c] = bb;
+                        return;
+                    }
+                    bb[a] = std::min(bb[a], v);
+                    bb[3 + a] = std::max(bb[3 + a], v);
+                }
+            }
+            box[c] = bb;
+        });
+        for (std::size_t c = 0; c < parts; ++c) {
+            if (first_bad[c] < n)
+                throw error("point " + std::to_string(first_bad[c]) + " has a non-finite coordinate");
+        }
+        for (int a = 0; a < D; ++a) {
+            lo[a] = INFINITY, hi[a] = -INFINITY;
+            for (const auto& bb : box) lo[a] = std::min(lo[a], bb[a]), hi[a] = std::max(hi[a], bb[3 + a]);
+            if (n == 0) lo[a] = hi[a] = 0;
+        }
+    }
+
+    periodic_ = !o.periodic.empty();
+    dims_ = {1, 1, 1};
+    if (periodic_) {
+        if (o.periodic.size() != std::size_t(D))
+            throw error("periodic box needs " + std::to_string(D) + " lengths, got " +
+                        std::to_string(o.periodic.size()));
+        double cells = 1;
+        for (int a = 0; a < D; ++a) {
+            const double box = o.periodic[a];
+            if (!std::isfinite(box) || box < 2 * r)
+                throw error("periodic box length " + fmt_double(box) + " on axis " + std::to_string(a) +
+                            " is smaller than twice the radius (" + fmt_double(2 * r) + ")");
+            if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
+                throw error("a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
+            box_[a] = T(box);
+            dims_[a] = std::max<std::int64_t>(1, std::int64_t(box / cell));
+            cells *= double(dims_[a]);
+        }
+        // Very sparse periodic boxes get larger cells (still >= r, so reach still holds).
+        const double cap = std::max(8.0 * double(n), 4096.0);
+        if (cells > cap) {
+            const double shrink = std::pow(cells / cap, 1.0 / D);
+            for (int a = 0; a < D; ++a) dims_[a] = std::max<std::int64_t>(1, std::int64_t(double(dims_[a]) / shrink));
+        }
+        kind_ = grid_kind::uniform;
+        for (int a = 0; a < D; ++a) {
+            cell_[a] = double(box_[a]) / double(dims_[a]);
+            inv_cell_[a] = double(dims_[a]) / double(box_[a]);
+            origin_[a] = 0;
+        }
+    } else {
+        if (o.domain_min.empty() != o.domain_max.empty())
+            throw error("domain needs both domain_min and domain_max");
+        if (!o.domain_min.empty()) {
+            if (o.domain_min.size() != std::size_t(D) || o.domain_max.size() != std::size_t(D))
+                throw error("domain bounds need " + std::to_string(D) + " values each");
+            for (int a = 0; a < D; ++a) {
+                if (!std::isfinite(o.domain_min[a]) || !std::isfinite(o.domain_max[a]) ||
+                    o.domain_min[a] > o.domain_max[a])
+                    throw error("domain bounds on axis " + std::to_string(a) + " are not finite and ordered");
+                lo[a] = o.domain_min[a], hi[a] = o.domain_max[a];
+            }
+        }
+        double cells = 1;
+        for (int a = 0; a < D; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
+        grid_kind kind = o.kind;
+        if (kind == grid_kind::automatic)
+            kind = cells <= std::max(4.0 * double(n), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
+        if (kind == grid_kind::uniform && !(cells <= max_uniform_cells))
+            throw error("a uniform grid over this domain would need " + fmt_double(cells) +
+                        " cells (extent / cell size); use the hashed grid");
+        kind_ = kind;
+        for (int a = 0; a < D; ++a) {
+            cell_[a] = cell;
+            inv_cell_[a] = 1.0 / cell;
+            if (kind_ == grid_kind::uniform) {
+                origin_[a] = lo[a];
+                dims_[a] = std::int64_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
+            } else {
+                origin_[a] = 0;
+                const double extent = std::max(std::abs(lo[a]), std::abs(hi[a])) * inv_cell_[a];
+                if (extent >= max_cell_coordinate)
+                    throw error("coordinates too far out for the hashed grid: |" +
+                                fmt_double(std::max(std::abs(lo[a]), std::abs(hi[a]))) + "| on axis " +
+                                std::to_string(a) + " is more than 2^52 cells from the origin");
+            }
+        }
+    }
+    if (kind_ == grid_kind::uniform) {
+        slots_ = 1;
+        for (int a = 0; a < D; ++a) slots_ *= std::size_t(dims_[a]);
+    } else {
+        slots_ = std::bit_ceil(std::max<std::size_t>(n, 64));
+    }
+}
+
+template <class T, int D>
+std::uint32_t grid<T, D>::slot_of_cell(const std::array<std::int64_t, 3>& c) const {
+    if (kind_ == grid_kind::uniform)
+        return std::uint32_t(c[0] + dims_[0] * (c[1] + dims_[1] * c[2]));
+    return std::uint32_t((detail::row_hash(c[1], c[2]) + std::uint64_t(c[0])) & (slots_ - 1));
+}
+
+template <class T, int D>
+std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
+    const std::uint32_t slot = slot_of_cell(cell_of(sorted_point(s)));
+    if (kind_ == grid_kind::hashed && (mixed_[slot / 64] >> (slot % 64) & 1)) return s + 1;
+    return offsets_[slot + 1];
+}
+
+template <class T, int D>
+void grid<T, D>::build(std::span<const T> coords, T radius, const grid_options& options) {
+    options_ = options;
+    radius_ = radius;
+    rebuild(coords);
+}
+
+template <class T, int D>
+void grid<T, D>::rebuild(std::span<const T> coords) {
+    configure(coords);
+    sort_into_cells(coords);
+}
+
+template <class T, int D>
+void grid<T, D>::sort_into_cells(std::span<const T> coords) {
+    const std::size_t n = coords.size() / D;
+    const int threads = detail::resolve_threads(options_.threads);
+    // Fixed chunks for count and scatter: chunk c's points go after chunk c-1's in every cell,
+    // which keeps the sort stable for any number of chunks.
+    const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
+    for (auto& p : pos_) p.resize(n);
+    perm_.resize(n);
+    inverse_.resize(n);
+    point_slot_.resize(n);
+    offsets_.assign(slots_ + 1, 0);
+    thread_counts_.assign(parts * slots_, 0);
+
+    // 1. Insert: each point's cell, and per-chunk counts of every cell.
+    detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+        std::uint32_t* counts = thread_counts_.data() + c * slots_;
+        point p;
+        for (std::size_t i = b; i < e; ++i) {
+            for (int a = 0; a < D; ++a) p[a] = coords[i * D + a];
+            const std::uint32_t s = slot_of_cell(cell_of(p));
+            point_slot_[i] = s;
+            ++counts[s];
+        }
+    });
+    // 2. Per cell: start of each chunk inside the cell, and the cell's total.
+    const std::size_t slot_parts = detail::chunk_count(slots_, threads, 1 << 14);
+    detail::for_each_chunk(slots_, slot_parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t s = b; s < e; ++s) {
+            std::uint32_t sum = 0;
+            for (std::size_t c = 0; c < parts; ++c) {
+                const std::uint32_t v = thread_counts_[c * slots_ + s];
+                thread_counts_[c * slots_ + s] = sum;
+                sum += v;
+            }
+            offsets_[s] = sum;
+        }
+    });
+    // 3. Exclusive prefix sum: where each cell starts.
+    detail::exclusive_scan(offsets_.data(), slots_ + 1, threads);
+    // 4. Stable scatter into cell order.
+    detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+        std::uint32_t* next = thread_counts_.data() + c * slots_;
+        for (std::size_t i = b; i < e; ++i) {
+            const std::uint32_t s = point_slot_[i];
+            const std::uint32_t dst = offsets_[s] + next[s]++;
+            for (int a = 0; a < D; ++a) pos_[a][dst] = coords[i * D + a];
+            perm_[dst] = std::uint32_t(i);
+            inverse_[i] = dst;
+        }
+    });
+    mark_mixed_slots();
+}
+
+// Counts non-empty cells; in the hashed grid, also flags slots shared by several cells so
+// that queries check cell coordinates there.
+template <class T, int D>
+void grid<T, D>::mark_mixed_slots() {
+    const int threads = detail::resolve_threads(options_.threads);
+    const bool hashed = kind_ == grid_kind::hashed;
+    mixed_.assign(hashed ? (slots_ + 63) / 64 : 0, 0);
+    const std::size_t words = (slots_ + 63) / 64;
+    const std::size_t parts = detail::chunk_count(words, threads, 1 << 10);
+    std::vector<std::size_t> nonempty(parts, 0);
+    detail::for_each_chunk(words, parts, threads, [&](std::size_t c, std::size_t wb, std::size_t we) {
+        std::size_t count = 0;
+        for (std::size_t s = wb * 64; s < std::min(we * 64, slots_); ++s) {
+            const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
+            if (b == e) continue;
+            ++count;
+            if (!hashed) continue;
+            const auto first = cell_of(sorted_point(b));
+            for (std::uint32_t j = b + 1; j < e; ++j) {
+                if (cell_of(sorted_point(j)) != first) {
+                    mixed_[s / 64] |= std::uint64_t(1) << (s % 64);
+                    break;
+                }
+            }
+        }
+        nonempty[c] = count;
+    });
+    nonempty_ = 0;
+    for (auto v : nonempty) nonempty_ += v;
+}
+
+template <class T, int D>
+std::size_t grid<T, D>::candidate_runs(const point& x, detail::candidate_run* out) const {
+    std::size_t n = 0;
+    if (size() == 0) return 0;
+    const auto c = cell_of(x);
+    const int k = reach_;
+    // Appends a run, merging it with the previous one when they touch.
+    auto add = [&](std::uint32_t b, std::uint32_t e) {
+        if (b == e) return;
+        if (n > 0 && !out[n - 1].filter && out[n - 1].end == b) {
+            out[n - 1].end = e;
+        } else {
+            out[n++] = {b, e, false, {}};
+        }
+    };
+    const int zr = D == 3 ? k : 0;
+    if (kind_ == grid_kind::uniform && !periodic_) {
+        const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
+        const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + k);
+        for (int dz = -zr; dz <= zr; ++dz) {
+            const std::int64_t z = c[2] + dz;
+            if (z < 0 || z >= dims_[2]) continue;
+            for (int dy = -k; dy <= k; ++dy) {
+                const std::int64_t y = c[1] + dy;
+                if (y < 0 || y >= dims_[1]) continue;
+                const std::int64_t row = (z * dims_[1] + y) * dims_[0];
+                add(offsets_[row + x0], offsets_[row + x1 + 1]);
+            }
+        }
+        return n;
+    }
+    if (periodic_) {
+        // Distinct wrapped cells per axis: all of them when the axis has no more than 2k+1.
+        std::array<std::array<std::int64_t, 9>, 3> idx{};
+        std::array<int, 3> count{1, 1, 1};
+        idx[2][0] = 0;
+        for (int a = 0; a < D; ++a) {
+            if (dims_[a] <= 2 * k + 1) {
+                count[a] = int(dims_[a]);
+                for (int i = 0; i < count[a]; ++i) idx[a][i] = i;
+            } else {
+                count[a] = 2 * k + 1;
+                for (int d = -k; d <= k; ++d) idx[a][d + k] = ((c[a] + d) % dims_[a] + dims_[a]) % dims_[a];
+            }
+        }
+        for (int iz = 0; iz < count[2]; ++iz)
+            for (int iy = 0; iy < count[1]; ++iy) {
+                const std::int64_t row = (idx[2][iz] * dims_[1] + idx[1][iy]) * dims_[0];
+                for (int ix = 0; ix < count[0]; ++ix) {
+                    const std::int64_t s = row + idx[0][ix];
+                    add(offsets_[s], offsets_[s + 1]);
+                }
+            }
+        return n;
+    }
+    // Hashed: consecutive x cells are consecutive slots; verify each slot's owner cell.
+    const std::uint64_t mask = slots_ - 1;
+    for (int dz = -zr; dz <= zr; ++dz)
+        for (int dy = -k; dy <= k; ++dy) {
+            const std::array<std::int64_t, 3> rowcell{0, c[1] + dy, c[2] + dz};
+            const std::uint64_t h = detail::row_hash(rowcell[1], rowcell[2]);
+            for (int dx = -k; dx <= k; ++dx) {
+                const std::array<std::int64_t, 3> cell{c[0] + dx, rowcell[1], rowcell[2]};
+                const std::size_t s = (h + std::uint64_t(cell[0])) & mask;
+                const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
+                if (b == e) continue;
+                if (mixed_[s / 64] >> (s % 64) & 1) {
+                    out[n++] = {b, e, true, cell};
+                } else if (cell_of(sorted_point(b)) == cell) {
+                    add(b, e);
+                }
+            }
+        }
+    return n;
+}
+
+template class grid<float, 2>;
+template class grid<float, 3>;
+template class grid<double, 2>;
+template class grid<double, 3>;
+
+}  // namespace frnn

@@ -1,0 +1,382 @@
+// Bulk queries: neighbor counts, CSR lists, k nearest within r, and queries from other points.
+// Points are processed in chunks of cell order (grid points) or caller order (query points);
+// each chunk fills its own buffer, and buffers are combined in chunk order, so the output does
+// not depend on the thread count.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include "cpu/parallel.hpp"
+#include "frnn/grid.hpp"
+
+namespace frnn {
+
+namespace {
+
+constexpr std::uint32_t no_index = std::numeric_limits<std::uint32_t>::max();
+
+/// Distance tests against runs of sorted points, with raw pointers for the inner loops.
+template <class T, int D>
+struct distance_kernel {
+    const grid<T, D>& g;
+    const T* p[D];
+    T box[D];
+    T r2;
+    bool periodic;
+
+    explicit distance_kernel(const grid<T, D>& gr) : g(gr), r2(gr.radius() * gr.radius()), periodic(gr.periodic()) {
+        for (int a = 0; a < D; ++a) p[a] = g.sorted_coords(a);
+        for (int a = 0; a < D; ++a) box[a] = periodic ? T(g.options().periodic[a]) : T(0);
+    }
+
+    /// Calls emit(j, d2) for every candidate j of the runs (the caller tests d2 <= r2);
+    /// candidates of shared hash slots outside their run's cell are skipped.
+    template <bool Periodic, class Emit>
+    void scan(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n, Emit&& emit) const {
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto& run = runs[k];
+            if (run.filter) {
+                for (std::uint32_t j = run.begin; j < run.end; ++j) {
+                    std::array<T, D> q;
+                    for (int a = 0; a < D; ++a) q[a] = p[a][j];
+                    if (g.cell_of(q) == run.cell) emit(j, d2_at<Periodic>(x, j));
+                }
+                continue;
+            }
+            for (std::uint32_t j = run.begin; j < run.end; ++j) emit(j, d2_at<Periodic>(x, j));
+        }
+    }
+
+    template <bool Periodic>
+    T d2_at(const std::array<T, D>& x, std::uint32_t j) const {
+        T d2 = 0;
+        for (int a = 0; a < D; ++a) {
+            T d = p[a][j] - x[a];
+            if constexpr (Periodic) d -= box[a] * std::nearbyint(d / box[a]);
+            d2 += d * d;
+        }
+        return d2;
+    }
+
+    template <bool Periodic>
+    std::uint32_t count(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n) const {
+        std::uint32_t c = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto& run = runs[k];
+            if (run.filter) {
+                scan<Periodic>(x, &run, 1, [&](std::uint32_t, T d2) { c += d2 <= r2; });
+                continue;
+            }
+            for (std::uint32_t j = run.begin; j < run.end; ++j) c += d2_at<Periodic>(x, j) <= r2;
+        }
+        return c;
+    }
+};
+
+/// Growable per-chunk output: neighbor index and squared distance per entry, count per row.
+template <class T>
+struct chunk_rows {
+    std::vector<std::uint32_t> index;
+    std::vector<T> d2;
+    std::vector<std::uint32_t> row_count;
+    std::size_t used = 0;
+    bool keep_d2 = false;
+
+    void reserve_more(std::size_t extra) {
+        if (used + extra <= index.size()) return;
+        const std::size_t cap = std::max(used + extra, index.size() * 2 + 1024);
+        index.resize(cap);
+        if (keep_d2) d2.resize(cap);
+    }
+};
+
+/// Where the rows of a traversal go and how its indices are renumbered.
+struct row_mapping {
+    const std::uint32_t* row_of = nullptr;    // processing position -> output row; null: same
+    const std::uint32_t* index_of = nullptr;  // sorted index -> output index; null: same
+};
+
+template <class T>
+csr<T> assemble(std::vector<chunk_rows<T>>& chunks, std::size_t rows, std::size_t chunk_parts, int threads,
+                row_mapping map, bool distances, row_order order) {
+    csr<T> out;
+    out.offsets.assign(rows + 1, 0);
+    // Row sizes at their output rows, then offsets.
+    detail::for_each_chunk(rows, chunk_parts, threads, [&](std::size_t c, std::size_t b, std::size_t) {
+        const auto& ch = chunks[c];
+        for (std::size_t k = 0; k < ch.row_count.size(); ++k) {
+            const std::size_t p = b + k;
+            out.offsets[map.row_of ? map.row_of[p] : p] = ch.row_count[k];
+        }
+    });
+    const std::uint64_t total = detail::exclusive_scan(out.offsets.data(), rows + 1, threads);
+    out.indices.resize(total);
+    if (distances) out.distances.resize(total);
+    detail::for_each_chunk(rows, chunk_parts, threads, [&](std::size_t c, std::size_t b, std::size_t) {
+        const auto& ch = chunks[c];
+        std::size_t src = 0;
+        for (std::size_t k = 0; k < ch.row_count.size(); ++k) {
+            const std::size_t p = b + k;
+            const std::size_t row = map.row_of ? map.row_of[p] : p;
+            std::uint64_t dst = out.offsets[row];
+            for (std::uint32_t m = 0; m < ch.row_count[k]; ++m, ++src, ++dst) {
+                const std::uint32_t j = ch.index[src];
+                out.indices[dst] = map.index_of ? map.index_of[j] : j;
+                if (distances) out.distances[dst] = std::sqrt(ch.d2[src]);
+            }
+        }
+        chunks[c] = chunk_rows<T>{};  // release the chunk's memory early
+    });
+    if (order == row_order::none) return out;
+    const std::size_t parts = detail::chunk_count(rows, threads, 256);
+    detail::for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
+        std::vector<std::pair<T, std::uint32_t>> tmp;
+        for (std::size_t r = b; r < e; ++r) {
+            const std::uint64_t ob = out.offsets[r], oe = out.offsets[r + 1];
+            if (!distances && order == row_order::index) {
+                std::sort(out.indices.begin() + ob, out.indices.begin() + oe);
+                continue;
+            }
+            tmp.clear();
+            for (std::uint64_t m = ob; m < oe; ++m)
+                tmp.emplace_back(distances ? out.distances[m] : T(0), out.indices[m]);
+            if (order == row_order::index) {
+                std::sort(tmp.begin(), tmp.end(), [](auto& l, auto& r2) { return l.second < r2.second; });
+            } else {
+                std::sort(tmp.begin(), tmp.end());
+            }
+            for (std::uint64_t m = ob; m < oe; ++m) {
+                out.indices[m] = tmp[m - ob].second;
+                if (distances) out.distances[m] = tmp[m - ob].first;
+            }
+        }
+    });
+    return out;
+}
+
+}  // namespace
+
+namespace detail {
+
+/// Runs the traversals of one grid; a friend-free home for the query code.
+template <class T, int D>
+struct query_engine {
+    const grid<T, D>& g;
+    int threads;
+
+    explicit query_engine(const grid<T, D>& gr) : g(gr), threads(gr.threads()) {}
+
+    /// Calls per_point(s, x, runs, nruns) for the sorted points [b, e), computing the candidate
+    /// runs once per cell.
+    template <class F>
+    void walk_sorted(std::size_t b, std::size_t e, F&& per_point) const {
+        candidate_run runs[max_runs];
+        std::size_t s = b;
+        while (s < e) {
+            std::array<T, D> x;
+            for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+            const std::size_t group_end = std::min<std::size_t>(g.cell_group_end(std::uint32_t(s)), e);
+            const std::size_t n = g.candidate_runs(x, runs);
+            for (; s < group_end; ++s) {
+                for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+                per_point(std::uint32_t(s), x, runs, n);
+            }
+        }
+    }
+
+    /// Calls per_point(q, x, runs, nruns) for the query points [b, e).
+    template <class F>
+    void walk_queries(std::span<const T> queries, std::size_t b, std::size_t e, F&& per_point) const {
+        candidate_run runs[max_runs];
+        for (std::size_t q = b; q < e; ++q) {
+            std::array<T, D> x;
+            for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
+            per_point(std::uint32_t(q), x, runs, g.candidate_runs(x, runs));
+        }
+    }
+
+    /// Traverses all grid points (queries empty) or all query points.
+    template <class F>
+    void walk(std::span<const T> queries, bool from_queries, std::size_t parts, F&& per_chunk_point) const {
+        const std::size_t rows = from_queries ? queries.size() / D : g.size();
+        for_each_chunk(rows, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            if (from_queries) {
+                walk_queries(queries, b, e, [&](std::uint32_t s, auto& x, auto* runs, std::size_t n) {
+                    per_chunk_point(c, s, x, runs, n);
+                });
+            } else {
+                walk_sorted(b, e, [&](std::uint32_t s, auto& x, auto* runs, std::size_t n) {
+                    per_chunk_point(c, s, x, runs, n);
+                });
+            }
+        });
+    }
+
+    std::vector<std::uint32_t> counts(std::span<const T> queries, bool from_queries, bool self) const {
+        const std::size_t rows = from_queries ? queries.size() / D : g.size();
+        std::vector<std::uint32_t> out(rows);
+        const distance_kernel<T, D> kern(g);
+        const std::uint32_t self_adjust = from_queries || self ? 0 : 1;
+        walk(queries, from_queries, chunk_count(rows, threads, 2048),
+             [&](std::size_t, std::uint32_t s, const std::array<T, D>& x, const candidate_run* runs, std::size_t n) {
+                 out[s] = (kern.periodic ? kern.template count<true>(x, runs, n) : kern.template count<false>(x, runs, n)) -
+                          self_adjust;
+             });
+        return out;  // grid points: at their sorted positions
+    }
+
+    /// Neighbor lists; `half_space` picks how "j > i" is judged (sorted or original numbering).
+    csr<T> lists(std::span<const T> queries, bool from_queries, const list_options& o, std::size_t k_nearest) const {
+        const std::size_t rows = from_queries ? queries.size() / D : g.size();
+        const std::size_t parts = chunk_count(rows, threads, 2048);
+        std::vector<chunk_rows<T>> chunks(parts);
+        const bool need_d2 = o.distances || k_nearest > 0;
+        for (auto& ch : chunks) ch.keep_d2 = need_d2;
+        const distance_kernel<T, D> kern(g);
+        const auto perm = g.sorted_to_original();
+        const bool sorted_space = o.space == index_space::sorted;
+        const bool exclude_self = !from_queries && !o.self;
+        const bool half = !from_queries && o.half;
+        const T r2 = kern.r2;
+        walk(queries, from_queries, parts,
+             [&](std::size_t c, std::uint32_t s, const std::array<T, D>& x, const candidate_run* runs, std::size_t n) {
+                 auto& ch = chunks[c];
+                 const std::size_t start = ch.used;
+                 const std::uint32_t skip = exclude_self ? s : no_index;
+                 const std::uint32_t ps = from_queries ? 0 : perm[s];
+                 auto emit_all = [&](auto periodic_tag) {
+                     constexpr bool P = decltype(periodic_tag)::value;
+                     for (std::size_t k = 0; k < n; ++k) {
+                         candidate_run run = runs[k];
+                         if (half && sorted_space) run.begin = std::max(run.begin, o.self ? s : s + 1);
+                         if (run.begin >= run.end) continue;
+                         ch.reserve_more(run.end - run.begin);
+                         std::uint32_t* idx = ch.index.data();
+                         T* dd = need_d2 ? ch.d2.data() : nullptr;
+                         auto emit = [&](std::uint32_t j, T d2) {
+                             bool keep = d2 <= r2 && j != skip;
+                             if (half && !sorted_space) keep = keep && (perm[j] > ps || (o.self && j == s));
+                             idx[ch.used] = j;
+                             if (dd) dd[ch.used] = d2;
+                             ch.used += keep;
+                         };
+                         if (run.filter) {
+                             kern.template scan<P>(x, &run, 1, emit);
+                         } else {
+                             for (std::uint32_t j = run.begin; j < run.end; ++j) emit(j, kern.template d2_at<P>(x, j));
+                         }
+                     }
+                 };
+                 if (kern.periodic) emit_all(std::true_type{});
+                 else emit_all(std::false_type{});
+                 if (k_nearest > 0) keep_nearest(ch, start, k_nearest, sorted_space ? nullptr : perm.data());
+                 ch.row_count.push_back(std::uint32_t(ch.used - start));
+             });
+        for (auto& ch : chunks) {
+            ch.index.resize(ch.used);
+            if (need_d2) ch.d2.resize(ch.used);
+        }
+        row_mapping map;
+        if (!from_queries && !sorted_space) map.row_of = perm.data();
+        if (!sorted_space) map.index_of = perm.data();
+        const row_order order = k_nearest > 0 ? row_order::distance : o.order;
+        if (k_nearest > 0 && !o.distances) {
+            // Sorting by distance needs the distances; drop them afterwards.
+            csr<T> out = assemble(chunks, rows, parts, threads, map, true, order);
+            out.distances = {};
+            return out;
+        }
+        return assemble(chunks, rows, parts, threads, map, o.distances, order);
+    }
+
+    /// Keeps the k nearest of the entries [start, used) of a chunk, ties broken by output index.
+    static void keep_nearest(chunk_rows<T>& ch, std::size_t start, std::size_t k, const std::uint32_t* index_of) {
+        const std::size_t m = ch.used - start;
+        if (m <= k) return;
+        std::vector<std::pair<T, std::uint32_t>> tmp(m);
+        for (std::size_t i = 0; i < m; ++i) tmp[i] = {ch.d2[start + i], ch.index[start + i]};
+        auto key = [&](const std::pair<T, std::uint32_t>& v) {
+            return std::pair<T, std::uint32_t>(v.first, index_of ? index_of[v.second] : v.second);
+        };
+        std::nth_element(tmp.begin(), tmp.begin() + std::ptrdiff_t(k - 1), tmp.end(),
+                         [&](auto& l, auto& r) { return key(l) < key(r); });
+        for (std::size_t i = 0; i < k; ++i) ch.d2[start + i] = tmp[i].first, ch.index[start + i] = tmp[i].second;
+        ch.used = start + k;
+    }
+};
+
+}  // namespace detail
+
+template <class T, int D>
+std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space space) const {
+    detail::query_engine<T, D> q(*this);
+    std::vector<std::uint32_t> sorted = q.counts({}, false, false);
+    if (space == index_space::sorted) return sorted;
+    std::vector<std::uint32_t> out(size());
+    for (std::size_t s = 0; s < size(); ++s) out[perm_[s]] = sorted[s];
+    return out;
+}
+
+template <class T, int D>
+csr<T> grid<T, D>::neighbor_lists(const list_options& options) const {
+    return detail::query_engine<T, D>(*this).lists({}, false, options, 0);
+}
+
+template <class T, int D>
+csr<T> grid<T, D>::nearest(std::size_t k, const list_options& options) const {
+    if (k == 0) throw error("nearest: k must be at least 1");
+    return detail::query_engine<T, D>(*this).lists({}, false, options, k);
+}
+
+template <class T, int D>
+csr<T> grid<T, D>::query(std::span<const T> queries, const list_options& options) const {
+    detail::query_engine<T, D> q(*this);
+    validate_queries(queries);
+    return q.lists(queries, true, options, 0);
+}
+
+template <class T, int D>
+std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T> queries) const {
+    detail::query_engine<T, D> q(*this);
+    validate_queries(queries);
+    return q.counts(queries, true, false);
+}
+
+template <class T, int D>
+csr<T> grid<T, D>::query_nearest(std::span<const T> queries, std::size_t k, const list_options& options) const {
+    if (k == 0) throw error("query_nearest: k must be at least 1");
+    detail::query_engine<T, D> q(*this);
+    validate_queries(queries);
+    return q.lists(queries, true, options, k);
+}
+
+template <class T, int D>
+void grid<T, D>::validate_queries(std::span<const T> queries) const {
+    if (queries.size() % D != 0)
+        throw error("query array has " + std::to_string(queries.size()) +
+                    " values, not a multiple of the dimension " + std::to_string(D));
+    for (std::size_t q = 0; q < queries.size() / D; ++q) {
+        point x;
+        for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
+        check_query_point(x, q);
+    }
+}
+
+// The class itself is instantiated in grid_build.cpp; these are the members defined here.
+#define FRNN_INSTANTIATE_QUERIES(T, D)                                                              \
+    template std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space) const;            \
+    template csr<T> grid<T, D>::neighbor_lists(const list_options&) const;                         \
+    template csr<T> grid<T, D>::nearest(std::size_t, const list_options&) const;                   \
+    template csr<T> grid<T, D>::query(std::span<const T>, const list_options&) const;              \
+    template std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T>) const;        \
+    template csr<T> grid<T, D>::query_nearest(std::span<const T>, std::size_t, const list_options&) \
+        const;                                                                                      \
+    template void grid<T, D>::validate_queries(std::span<const T>) const;
+FRNN_INSTANTIATE_QUERIES(float, 2)
+FRNN_INSTANTIATE_QUERIES(float, 3)
+FRNN_INSTANTIATE_QUERIES(double, 2)
+FRNN_INSTANTIATE_QUERIES(double, 3)
+
+}  // namespace frnn
