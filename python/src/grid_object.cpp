@@ -1,0 +1,341 @@
+#include "grid_object.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <mutex>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "numpy_io.hpp"
+
+namespace frnn::python {
+
+namespace {
+
+template <class G>
+struct grid_traits;
+template <class T, int D>
+struct grid_traits<grid<T, D>> {
+    using type = T;
+    static constexpr int dim = D;
+};
+
+/// The four precision x dimension cases as a value, for a run-time dispatch.
+template <class T, int D>
+struct case_tag {
+    using type = T;
+    static constexpr int dim = D;
+};
+template <class F>
+decltype(auto) dispatch(bool float32, int dim, F&& f) {
+    if (float32) return dim == 2 ? f(case_tag<float, 2>{}) : f(case_tag<float, 3>{});
+    return dim == 2 ? f(case_tag<double, 2>{}) : f(case_tag<double, 3>{});
+}
+
+row_order parse_sort(const py::object& sort) {
+    if (sort.is_none()) return row_order::none;
+    if (py::isinstance<py::str>(sort)) {
+        const auto s = sort.cast<std::string>();
+        if (s == "index") return row_order::index;
+        if (s == "distance") return row_order::distance;
+    }
+    throw py::value_error("sort must be 'index', 'distance' or None; got " +
+                          std::string(py::repr(sort)));
+}
+
+/// None, one box length for every axis, or one length per axis.
+std::vector<double> parse_periodic(const py::object& periodic, int dim) {
+    if (periodic.is_none()) return {};
+    const py::array a = as_array(periodic);
+    const char kind = a.dtype().kind();
+    const bool numeric = kind == 'f' || kind == 'i' || kind == 'u';
+    if (!numeric || !(a.ndim() == 0 || (a.ndim() == 1 && a.shape(0) == dim)))
+        throw py::value_error("periodic must be None, one box length, or " + std::to_string(dim) +
+                              " box lengths (one per axis); got " + std::string(py::repr(periodic)));
+    const auto v = as_contiguous<double>(a);
+    return a.ndim() == 0 ? std::vector<double>(std::size_t(dim), v.data()[0])
+                         : std::vector<double>(v.data(), v.data() + dim);
+}
+
+grid_options make_options(const grid_args& args, int dim) {
+    grid_options o;
+    o.kind = parse_grid_kind(args.grid);
+    o.cell_size = args.cell_size.value_or(0.0);
+    o.periodic = parse_periodic(args.periodic, dim);
+    if (args.threads && *args.threads < 1)
+        throw py::value_error("threads must be >= 1 (None uses all hardware threads); got " +
+                              std::to_string(*args.threads));
+    o.threads = args.threads.value_or(0);
+    return o;
+}
+
+/// Coordinates of `points` as a C-contiguous (N, D) array of T, checked and converted.
+template <class T, int D>
+py::array_t<T, py::array::c_style> typed_points(py::handle points, const char* what,
+                                                bool allow_single) {
+    const py::array a = check_points_shape(as_array(points), what, D, allow_single);
+    is_float32_input(a, what);  // rejects non-numeric dtypes
+    return as_contiguous<T>(a);
+}
+
+template <class T>
+std::span<const T> coords_of(const py::array_t<T, py::array::c_style>& a) {
+    return {a.data(), std::size_t(a.size())};
+}
+
+std::vector<std::int64_t> widen(const std::vector<std::uint32_t>& v) {
+    return {v.begin(), v.end()};
+}
+
+/// (offsets int64, indices uint32[, distances]) without copying the vectors.
+template <class T>
+py::tuple csr_to_numpy(csr<T>&& c, bool distances) {
+    py::array offsets = to_numpy<std::int64_t>(std::move(c.offsets));
+    py::array indices = to_numpy(std::move(c.indices));
+    if (!distances) return py::make_tuple(offsets, indices);
+    return py::make_tuple(offsets, indices, to_numpy(std::move(c.distances)));
+}
+
+template <class T>
+bool all_finite(std::span<const T> v) {
+    for (const T x : v)
+        if (!std::isfinite(x)) return false;
+    return true;
+}
+
+}  // namespace
+
+template <class F>
+auto grid_object::read(F&& f) const {
+    py::gil_scoped_release nogil;
+    std::shared_lock lock(mutex_);
+    if (!valid_) throw error("frnn.Grid: a previous update() failed; call update() again");
+    return f();
+}
+
+void grid_object::build_into(any_grid& target, py::handle points, double radius,
+                             const grid_options& options) {
+    const py::array a = check_points_shape(as_array(points), "points", 0, false);
+    dispatch(is_float32_input(a, "points"), int(a.shape(1)), [&](auto tag) {
+        using T = typename decltype(tag)::type;
+        constexpr int D = decltype(tag)::dim;
+        const auto c = as_contiguous<T>(a);
+        auto& g = target.template emplace<grid<T, D>>();
+        py::gil_scoped_release nogil;
+        g.build(coords_of(c), T(radius), options);
+    });
+}
+
+grid_object::grid_object(py::handle points, double radius, const grid_args& args) {
+    const py::array a = check_points_shape(as_array(points), "points", 0, false);
+    options_ = make_options(args, int(a.shape(1)));
+    build_into(g_, a, radius, options_);
+}
+
+py::array grid_object::query_pairs() const {
+    return std::visit(
+        [&](auto& g) {
+            std::vector<std::int64_t> pairs = read([&] {
+                list_options o;
+                o.half = true;
+                o.order = row_order::index;
+                const auto c = g.neighbor_lists(o);
+                std::vector<std::int64_t> p(2 * c.size());
+                for (std::size_t i = 0; i < c.rows(); ++i)
+                    for (auto k = c.offsets[i]; k < c.offsets[i + 1]; ++k) {
+                        p[2 * k] = std::int64_t(i);
+                        p[2 * k + 1] = c.indices[k];
+                    }
+                return p;
+            });
+            const auto m = py::ssize_t(pairs.size() / 2);
+            return to_numpy(std::move(pairs), {m, 2});
+        },
+        g_);
+}
+
+py::tuple grid_object::neighbors(bool return_distances, const py::object& sort, bool half) const {
+    list_options o;
+    o.half = half;
+    o.distances = return_distances;
+    o.order = parse_sort(sort);
+    return std::visit(
+        [&](auto& g) {
+            auto c = read([&] { return g.neighbor_lists(o); });
+            return csr_to_numpy(std::move(c), return_distances);
+        },
+        g_);
+}
+
+py::array grid_object::count_neighbors() const {
+    return std::visit(
+        [&](auto& g) { return to_numpy(read([&] { return widen(g.count_neighbors()); })); }, g_);
+}
+
+py::object grid_object::query_ball_point(py::handle x, std::optional<double> r,
+                                         bool return_distances, const py::object& sort,
+                                         bool return_length) const {
+    const row_order order = parse_sort(sort);
+    return std::visit(
+        [&](auto& g) -> py::object {
+            using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
+            constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
+            const auto q = typed_points<T, D>(x, "x", true);
+            if (r && T(*r) != g.radius()) {
+                // Another radius needs another grid: build one over the same points.
+                grid_object other;
+                other.options_ = options_;
+                if (options_.cell_size != 0 &&
+                    (options_.cell_size > *r || options_.cell_size < *r / 4))
+                    other.options_.cell_size = 0;
+                build_into(other.g_, original_points(), *r, other.options_);
+                return other.query_ball_point(q, std::nullopt, return_distances, sort,
+                                              return_length);
+            }
+            if (return_length)
+                return to_numpy(read([&] { return widen(g.query_counts(coords_of(q))); }));
+            list_options o;
+            o.distances = return_distances;
+            o.order = order;
+            auto c = read([&] { return g.query(coords_of(q), o); });
+            return csr_to_numpy(std::move(c), return_distances);
+        },
+        g_);
+}
+
+py::tuple grid_object::query_knn(std::size_t k, py::handle x) const {
+    if (k < 1) throw py::value_error("query_knn: k must be >= 1");
+    list_options o;
+    o.distances = true;
+    o.order = row_order::distance;
+    return std::visit(
+        [&](auto& g) {
+            using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
+            constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
+            if (x.is_none()) return csr_to_numpy(read([&] { return g.nearest(k, o); }), true);
+            const auto q = typed_points<T, D>(x, "x", true);
+            return csr_to_numpy(read([&] { return g.query_nearest(coords_of(q), k, o); }), true);
+        },
+        g_);
+}
+
+void grid_object::update(py::handle points) {
+    std::visit(
+        [&](auto& g) {
+            using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
+            constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
+            const auto c = typed_points<T, D>(points, "points", false);
+            py::gil_scoped_release nogil;
+            std::unique_lock lock(mutex_);
+            // Checked here so that a bad array leaves the grid as it was.
+            if (!all_finite(coords_of(c)))
+                throw error("update: points contain NaN or infinite coordinates");
+            valid_ = false;
+            g.rebuild(coords_of(c));
+            valid_ = true;
+        },
+        g_);
+}
+
+py::array grid_object::original_points() const {
+    return std::visit(
+        [&](auto& g) {
+            using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
+            constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
+            std::vector<T> out = read([&] {
+                std::vector<T> p(g.size() * D);
+                const auto perm = g.sorted_to_original();
+                for (std::size_t s = 0; s < g.size(); ++s)
+                    for (int a = 0; a < D; ++a) p[std::size_t(perm[s]) * D + a] = g.sorted_coord(s, a);
+                return p;
+            });
+            const auto n = py::ssize_t(out.size() / D);
+            return to_numpy(std::move(out), {n, py::ssize_t(D)});
+        },
+        g_);
+}
+
+/// Indices as int64 numpy array: sorted -> original (or the inverse).
+static py::array index_array(const auto& g, bool inverse) {
+    std::vector<std::int64_t> v;
+    const auto src = inverse ? g.original_to_sorted() : g.sorted_to_original();
+    v.assign(src.begin(), src.end());
+    return to_numpy(std::move(v));
+}
+
+py::array grid_object::permutation() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([&](auto& g) { return index_array(g, false); }, g_);
+}
+
+/// array.take(rows, axis=0), after checking that array has one row per point.
+static py::array take_rows(py::handle array, const py::array& rows, const char* what) {
+    const py::array a = as_array(array);
+    const auto n = rows.shape(0);
+    if (a.ndim() < 1 || a.shape(0) != n)
+        throw py::value_error(std::string(what) + ": array must have " + std::to_string(n) +
+                              " rows (one per point); got shape " + shape_text(a));
+    return a.attr("take")(rows, py::arg("axis") = 0);
+}
+
+py::array grid_object::reorder(py::handle array) const {
+    return take_rows(array, permutation(), "reorder");
+}
+
+py::array grid_object::restore_order(py::handle array) const {
+    std::shared_lock lock(mutex_);
+    const py::array inverse = std::visit([&](auto& g) { return index_array(g, true); }, g_);
+    lock.unlock();
+    return take_rows(array, inverse, "restore_order");
+}
+
+std::size_t grid_object::size() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return g.size(); }, g_);
+}
+double grid_object::radius() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return double(g.radius()); }, g_);
+}
+int grid_object::dim() const {
+    return std::visit([](auto& g) { return grid_traits<std::decay_t<decltype(g)>>::dim; }, g_);
+}
+py::dtype grid_object::dtype() const {
+    return is_float32() ? py::dtype::of<float>() : py::dtype::of<double>();
+}
+std::string grid_object::kind() const {
+    std::shared_lock lock(mutex_);
+    return std::string(to_string(std::visit([](auto& g) { return g.kind(); }, g_)));
+}
+std::size_t grid_object::cells() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return g.cell_count(); }, g_);
+}
+std::size_t grid_object::nonempty_cells() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return g.nonempty_cells(); }, g_);
+}
+double grid_object::cell_size() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return g.cell_size(0); }, g_);
+}
+py::object grid_object::periodic() const {
+    if (options_.periodic.empty()) return py::none();
+    return py::tuple(py::cast(options_.periodic));
+}
+int grid_object::threads() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return g.threads(); }, g_);
+}
+std::size_t grid_object::memory_bytes() const {
+    std::shared_lock lock(mutex_);
+    return std::visit([](auto& g) { return g.memory_bytes(); }, g_);
+}
+std::string grid_object::repr() const {
+    return "frnn.Grid(n=" + std::to_string(size()) + ", dim=" + std::to_string(dim()) +
+           ", radius=" + std::string(py::repr(py::float_(radius()))) + ", kind='" + kind() +
+           "', dtype=" + std::string(py::str(py::handle(dtype()))) + ")";
+}
+
+}  // namespace frnn::python

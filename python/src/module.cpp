@@ -1,0 +1,220 @@
+// frnn._frnn: the compiled part of the `frnn` Python package (python/frnn re-exports it).
+// Docstrings live here so that help() and editors show them; python/frnn/__init__.pyi repeats
+// the signatures with types.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "frnn/error.hpp"
+#include "grid_object.hpp"
+
+namespace py = pybind11;
+using frnn::python::grid_args;
+using frnn::python::grid_object;
+
+namespace {
+
+constexpr const char* grid_doc = R"(Fixed-radius neighbor search over one point set.
+
+Grid(points, radius, *, grid="auto", cell_size=None, periodic=None, threads=None)
+
+Two points i != j are neighbors when |x_i - x_j| <= radius (the real radius, not its square),
+with minimum-image distances when ``periodic`` is given.
+
+Parameters
+----------
+points : array_like, shape (N, 2) or (N, 3)
+    float32 and float64 arrays that are C-contiguous are read in place (no copy); the grid
+    works in their precision. Other layouts are copied; integer and other real dtypes are
+    converted to float64. bool, complex, object and string arrays raise TypeError. NaN or
+    infinite coordinates raise ValueError. The grid keeps its own sorted copy of the points,
+    so the array may be changed or freed afterwards.
+radius : float
+    Search radius, > 0.
+grid : {"auto", "uniform", "hash"}
+    Dense cells over the bounding box, or a hash table of cells (unbounded domains, far
+    outliers); "auto" picks by the cell count.
+cell_size : float, optional
+    Cell edge in [radius/4, radius]; default radius.
+periodic : float or sequence of float, optional
+    Box length(s) L: the box is [0, L) on each axis and distances use the minimum image.
+    Every length must be >= 2 * radius.
+threads : int, optional
+    Worker threads for build and queries (default: all hardware threads). Results are
+    identical for any thread count.
+
+Raises
+------
+ValueError (frnn.Error)
+    Bad shapes, values or options; the message says what and where.
+TypeError
+    Unsupported dtype.
+
+Notes
+-----
+Build and queries release the GIL. Several threads may query one Grid at once; update()
+waits for running queries and blocks new ones until it is done.
+)";
+
+constexpr const char* query_pairs_doc = R"(All pairs within the radius.
+
+Returns
+-------
+pairs : ndarray of int64, shape (M, 2)
+    Every pair (i, j) with i < j and |x_i - x_j| <= radius, sorted lexicographically: the
+    content of ``cKDTree(points).query_pairs(r, output_type='ndarray')`` after sorting.
+)";
+
+constexpr const char* neighbors_doc = R"(Neighbor lists of every point, as CSR arrays.
+
+Parameters
+----------
+return_distances : bool
+    Also return the distances (not squared), in the grid's precision.
+sort : {"index", "distance", None}
+    Order inside each row: increasing index, increasing distance (ties by index), or the
+    traversal order (deterministic and cheapest).
+half : bool
+    Keep only j > i: each pair once.
+
+Returns
+-------
+offsets : ndarray of int64, shape (N + 1,)
+indices : ndarray of uint32
+    Row i is ``indices[offsets[i]:offsets[i + 1]]``; i itself is never included.
+distances : ndarray of float32 or float64, when return_distances
+    The arrays own the C++ result buffers: nothing is copied.
+)";
+
+constexpr const char* count_doc = R"(Number of neighbors of every point (itself excluded).
+
+Returns
+-------
+counts : ndarray of int64, shape (N,)
+    Equal to ``numpy.diff(offsets)`` of neighbors().
+)";
+
+constexpr const char* ball_doc = R"(Grid points within r of other points.
+
+Parameters
+----------
+x : array_like, shape (M, dim) or (dim,)
+    Query points, converted to the grid's precision. A single point gives one row.
+r : float, optional
+    Radius; default the grid's. Another radius builds a temporary grid over the same points
+    with that radius (O(N) extra work per call): build a Grid with that radius to query it
+    often.
+return_distances : bool
+    Also return distances.
+sort : {"index", "distance", None}
+    Order inside each row.
+return_length : bool
+    Return only the number of points in each row (int64, shape (M,)).
+
+Returns
+-------
+(offsets, indices[, distances]) as in neighbors(): row q holds the grid points within r of
+x[q] (a query point equal to a grid point finds that point, at distance 0).
+)";
+
+constexpr const char* knn_doc = R"(At most k nearest neighbors within the radius.
+
+Parameters
+----------
+k : int
+    Maximum neighbors per row, >= 1.
+x : array_like, shape (M, dim) or (dim,), optional
+    Query points; default the grid's own points (each point then excludes itself).
+
+Returns
+-------
+offsets, indices, distances : CSR arrays as in neighbors()
+    Each row is sorted by distance, ties by index, and holds min(k, neighbors within r)
+    entries. ``cKDTree.query(x, k, distance_upper_bound=r)`` pads the same rows with inf.
+)";
+
+constexpr const char* update_doc = R"(Rebuild over new positions (the next time step).
+
+The radius and options stay; the number of points may change. ``points`` must have the
+grid's dimension; other dtypes are converted to the grid's precision (a copy). On error the
+grid is unchanged.
+)";
+
+constexpr const char* reorder_doc = R"(The array permuted into the grid's cell order.
+
+Returns ``array.take(permutation, axis=0)``: row s of the result is row permutation[s] of
+the input. Per-particle data in cell order is read with better locality. ``array`` must have
+N rows; any dtype and trailing shape.
+)";
+
+constexpr const char* restore_doc = R"(The inverse of reorder(): an array in cell order back in the caller's order.)";
+
+constexpr const char* one_shot_doc = R"(All pairs within radius: Grid(points, radius, **kw).query_pairs().
+
+Returns an (M, 2) int64 array of pairs i < j, sorted lexicographically. Keyword arguments are
+those of Grid.
+)";
+
+}  // namespace
+
+PYBIND11_MODULE(_frnn, m) {
+    m.doc() = "frnn: fast fixed-radius neighbor search (compiled module)";
+    m.attr("__version__") = FRNN_VERSION;
+    py::register_exception<frnn::error>(m, "Error", PyExc_ValueError);
+
+    py::class_<grid_object>(m, "Grid", grid_doc)
+        .def(py::init([](py::handle points, double radius, std::string grid,
+                         std::optional<double> cell_size, py::object periodic,
+                         std::optional<int> threads) {
+                 return new grid_object(points, radius,
+                                        grid_args{std::move(grid), cell_size, periodic, threads});
+             }),
+             py::arg("points"), py::arg("radius"), py::kw_only(), py::arg("grid") = "auto",
+             py::arg("cell_size") = py::none(), py::arg("periodic") = py::none(),
+             py::arg("threads") = py::none())
+        .def("query_pairs", &grid_object::query_pairs, query_pairs_doc)
+        .def("neighbors", &grid_object::neighbors, neighbors_doc,
+             py::arg("return_distances") = false, py::arg("sort") = "index",
+             py::arg("half") = false)
+        .def("count_neighbors", &grid_object::count_neighbors, count_doc)
+        .def("query_ball_point", &grid_object::query_ball_point, ball_doc, py::arg("x"),
+             py::arg("r") = py::none(), py::kw_only(), py::arg("return_distances") = false,
+             py::arg("sort") = "index", py::arg("return_length") = false)
+        .def("query_knn", &grid_object::query_knn, knn_doc, py::arg("k"),
+             py::arg("x") = py::none())
+        .def("update", &grid_object::update, update_doc, py::arg("points"))
+        .def("reorder", &grid_object::reorder, reorder_doc, py::arg("array"))
+        .def("restore_order", &grid_object::restore_order, restore_doc, py::arg("array"))
+        .def_property_readonly("permutation", &grid_object::permutation,
+                               "int64 array: permutation[s] is the caller's index of the s-th "
+                               "point in cell order")
+        .def_property_readonly("n", &grid_object::size, "Number of points")
+        .def_property_readonly("radius", &grid_object::radius, "Search radius")
+        .def_property_readonly("dim", &grid_object::dim, "Dimension: 2 or 3")
+        .def_property_readonly("dtype", &grid_object::dtype, "float32 or float64")
+        .def_property_readonly("kind", &grid_object::kind, "'uniform' or 'hash'")
+        .def_property_readonly("cells", &grid_object::cells,
+                               "Cells (uniform grid) or hash-table slots (hashed grid)")
+        .def_property_readonly("nonempty_cells", &grid_object::nonempty_cells,
+                               "Cells holding at least one point")
+        .def_property_readonly("cell_size", &grid_object::cell_size, "Cell edge length")
+        .def_property_readonly("periodic", &grid_object::periodic,
+                               "Box lengths per axis, or None for open boundaries")
+        .def_property_readonly("threads", &grid_object::threads, "Worker threads used")
+        .def_property_readonly("memory_bytes", &grid_object::memory_bytes,
+                               "Bytes held by the structure")
+        .def("__len__", &grid_object::size)
+        .def("__repr__", &grid_object::repr);
+
+    m.def(
+        "query_pairs",
+        [](py::handle points, double radius, std::string grid, std::optional<double> cell_size,
+           py::object periodic, std::optional<int> threads) {
+            return grid_object(points, radius,
+                               grid_args{std::move(grid), cell_size, periodic, threads})
+                .query_pairs();
+        },
+        one_shot_doc, py::arg("points"), py::arg("radius"), py::kw_only(),
+        py::arg("grid") = "auto", py::arg("cell_size") = py::none(),
+        py::arg("periodic") = py::none(), py::arg("threads") = py::none());
+}
