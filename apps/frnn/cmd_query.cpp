@@ -1,0 +1,290 @@
+// `frnn query`: the neighbor pairs of a point file (or of a generated point set), written as
+// .npy pairs, .csv lines or .npz CSR lists, with a summary on stdout (text or JSON).
+// Usage errors throw CLI::ValidationError (exit 2); bad input throws frnn::error (exit 1).
+#ifdef FRNN_IO_AVAILABLE
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "command.hpp"
+#include "frnn/grid.hpp"
+#include "frnn/io/read.hpp"
+#include "frnn/io/write.hpp"
+
+namespace frnn::app {
+namespace {
+
+struct query_args {
+    std::string input, output, queries, generate, grid = "auto", periodic;
+    double radius = 0, cell_size = 0;
+    std::size_t knn = 0;
+    int threads = 0, dim = 3;
+    std::uint64_t seed = 42;
+    bool self = false, json = false;
+};
+
+// What the summary reports.
+struct query_report {
+    std::size_t points = 0, query_points = 0, cells = 0, nonempty = 0, max_neighbors = 0;
+    int dimension = 3, threads = 1;
+    std::string precision, grid;
+    double cell_size = 0, mean_neighbors = 0;
+    std::uint64_t pairs = 0;
+    double read_ms = 0, build_ms = 0, query_ms = 0, write_ms = 0;
+};
+
+class stopwatch {
+public:
+    double lap_ms() {
+        const auto now = std::chrono::steady_clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+        last_ = now;
+        return ms;
+    }
+
+private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+std::vector<double> parse_periodic(const std::string& text) {
+    std::vector<double> lengths;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma - start);
+        double v = 0;
+        const auto r = std::from_chars(item.data(), item.data() + item.size(), v);
+        if (item.empty() || r.ec != std::errc() || r.ptr != item.data() + item.size() ||
+            !std::isfinite(v) || v <= 0)
+            throw CLI::ValidationError("--periodic", "'" + item +
+                                                         "' is not a positive box length (expected LX,LY[,LZ])");
+        lengths.push_back(v);
+        if (comma == std::string::npos) return lengths;
+        start = comma + 1;
+    }
+}
+
+// Built-in point sets, the BENCHMARKS.md workloads W1 (lattice) and W2 (uniform): std::mt19937_64,
+// drawing x, then y, then z of each point in turn.
+io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed) {
+    const std::size_t colon = spec.find(':');
+    const std::string kind = spec.substr(0, colon);
+    std::uint64_t n = 0;
+    const char* first = spec.data() + (colon == std::string::npos ? spec.size() : colon + 1);
+    const auto r = std::from_chars(first, spec.data() + spec.size(), n);
+    if ((kind != "lattice" && kind != "uniform") || colon == std::string::npos || n == 0 ||
+        r.ec != std::errc() || r.ptr != spec.data() + spec.size())
+        throw CLI::ValidationError("--generate", "'" + spec +
+                                                     "': expected lattice:N or uniform:N with N > 0");
+    const double count = kind == "lattice" ? std::pow(double(n), dim) : double(n);
+    if (count > 1e9) throw CLI::ValidationError("--generate", "'" + spec + "' asks for too many points");
+
+    std::mt19937_64 rng(seed);
+    std::vector<double> xyz;
+    xyz.reserve(std::size_t(count) * std::size_t(dim));
+    if (kind == "lattice") {  // spacing 1, each coordinate jittered by uniform(-0.1, 0.1)
+        std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+        const std::uint64_t nz = dim == 3 ? n : 1;
+        for (std::uint64_t k = 0; k < nz; ++k)
+            for (std::uint64_t j = 0; j < n; ++j)
+                for (std::uint64_t i = 0; i < n; ++i) {
+                    const double cell[3] = {double(i), double(j), double(k)};
+                    for (int a = 0; a < dim; ++a) xyz.push_back(cell[a] + jitter(rng));
+                }
+    } else {  // unit density: a cube of side N^(1/dim)
+        std::uniform_real_distribution<double> coordinate(0.0, std::pow(double(n), 1.0 / dim));
+        for (std::size_t k = 0; k < std::size_t(n) * std::size_t(dim); ++k) xyz.push_back(coordinate(rng));
+    }
+    io::point_set points;
+    points.dimension = dim;
+    points.coords = std::move(xyz);
+    return points;
+}
+
+// k-nearest rows come sorted by distance; files list every row by neighbor index.
+template <class T>
+void sort_rows_by_index(csr<T>& lists) {
+    std::vector<std::pair<std::uint32_t, T>> row;
+    for (std::size_t i = 0; i < lists.rows(); ++i) {
+        const std::uint64_t b = lists.offsets[i], e = lists.offsets[i + 1];
+        row.clear();
+        for (std::uint64_t k = b; k < e; ++k) row.emplace_back(lists.indices[k], lists.distances[k]);
+        std::sort(row.begin(), row.end());
+        for (std::uint64_t k = b; k < e; ++k) std::tie(lists.indices[k], lists.distances[k]) = row[k - b];
+    }
+}
+
+void check_usage(const query_args& a) {
+    if (a.input.empty() == a.generate.empty())
+        throw CLI::ValidationError("INPUT", "give exactly one of an INPUT file or --generate");
+    if (!a.input.empty() && !io::is_point_file(a.input))
+        throw CLI::ValidationError("INPUT", "'" + a.input +
+                                                "': unknown extension (expected .npy, .csv, .txt, .xyz or .ply)");
+    if (!a.queries.empty() && !io::is_point_file(a.queries))
+        throw CLI::ValidationError("--queries", "'" + a.queries +
+                                                    "': unknown extension (expected .npy, .csv, .txt, .xyz or .ply)");
+    if (!a.output.empty() && !io::is_neighbor_output(a.output))
+        throw CLI::ValidationError("--output", "'" + a.output + "': unknown extension (expected .npy, .csv or .npz)");
+    if (!std::isfinite(a.radius))
+        throw CLI::ValidationError("--radius", "must be finite");
+    if (a.cell_size != 0 && (a.cell_size > a.radius || a.cell_size < a.radius / 4))
+        throw CLI::ValidationError("--cell-size", "must lie between radius/4 and the radius");
+    if (a.self && !a.queries.empty())
+        throw CLI::ValidationError("--self", "does not apply with --queries (query points are not data points)");
+}
+
+void print_report(const query_args& a, const query_report& r) {
+    const std::string input = a.input.empty() ? a.generate : a.input;
+    if (a.json) {
+        nlohmann::ordered_json j;
+        j["input"] = input;
+        j["points"] = r.points;
+        j["dimension"] = r.dimension;
+        j["precision"] = r.precision;
+        if (!a.queries.empty()) {
+            j["queries"] = a.queries;
+            j["query_points"] = r.query_points;
+        }
+        j["radius"] = a.radius;
+        j["knn"] = a.knn;
+        j["self"] = a.self;
+        j["pairs"] = r.pairs;
+        j["mean_neighbors"] = r.mean_neighbors;
+        j["max_neighbors"] = r.max_neighbors;
+        j["grid"] = r.grid;
+        j["cells"] = r.cells;
+        j["nonempty_cells"] = r.nonempty;
+        j["cell_size"] = r.cell_size;
+        j["threads"] = r.threads;
+        j["output"] = a.output.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(a.output);
+        j["time_ms"] = {{"read", r.read_ms}, {"build", r.build_ms}, {"query", r.query_ms}, {"write", r.write_ms}};
+        std::cout << j.dump(2) << '\n';
+        return;
+    }
+    std::printf("points     %zu (%dD, %s) from %s\n", r.points, r.dimension, r.precision.c_str(), input.c_str());
+    if (!a.queries.empty()) std::printf("queries    %zu from %s\n", r.query_points, a.queries.c_str());
+    std::printf("radius     %g%s%s\n", a.radius, a.knn ? (", at most " + std::to_string(a.knn) + " nearest").c_str() : "",
+                a.self ? ", self pairs included" : "");
+    std::printf("pairs      %llu%s\n", static_cast<unsigned long long>(r.pairs),
+                a.queries.empty() && a.knn == 0 ? " (i < j)" : "");
+    std::printf("neighbors  mean %.2f, max %zu per %s point\n", r.mean_neighbors, r.max_neighbors,
+                a.queries.empty() ? "data" : "query");
+    std::printf("grid       %s, %zu cells (%zu non-empty), cell size %g, %d threads\n", r.grid.c_str(), r.cells,
+                r.nonempty, r.cell_size, r.threads);
+    std::printf("time       read %.1f ms, build %.1f ms, query %.1f ms, write %.1f ms\n", r.read_ms, r.build_ms,
+                r.query_ms, r.write_ms);
+    if (!a.output.empty()) std::printf("output     %s\n", a.output.c_str());
+}
+
+void run_query(const query_args& a) {
+    check_usage(a);
+    const std::vector<double> periodic = a.periodic.empty() ? std::vector<double>{} : parse_periodic(a.periodic);
+    query_report r;
+    stopwatch clock;
+
+    io::point_set data = a.input.empty() ? generate_points(a.generate, a.dim, a.seed) : io::read_points(a.input);
+    io::point_set queries;
+    if (!a.queries.empty()) {
+        queries = io::read_points(a.queries);
+        if (queries.size() > 0 && queries.dimension != data.dimension)
+            throw error(a.queries + ": " + std::to_string(queries.dimension) + "-D points, but the data points are " +
+                        std::to_string(data.dimension) + "-D");
+        queries.dimension = data.dimension;
+        queries.convert_to(data.type());  // distances in the data's precision
+    }
+    if (!periodic.empty()) {
+        if (periodic.size() != std::size_t(data.dimension))
+            throw CLI::ValidationError("--periodic", "needs " + std::to_string(data.dimension) +
+                                                         " box lengths for " + std::to_string(data.dimension) +
+                                                         "-D points, got " + std::to_string(periodic.size()));
+        for (double length : periodic)
+            if (length < 2 * a.radius)
+                throw CLI::ValidationError("--periodic", "every box length must be at least 2 * radius");
+    }
+    r.read_ms = clock.lap_ms();
+
+    io::visit_points(data, [&]<class T, int D>(std::span<const T> xyz) {
+        grid_options options;
+        options.kind = parse_grid_kind(a.grid);
+        options.cell_size = a.cell_size;
+        options.periodic = periodic;
+        options.threads = a.threads;
+        const grid<T, D> g(xyz, T(a.radius), options);
+        r.build_ms = clock.lap_ms();
+
+        list_options lists_options;
+        lists_options.distances = true;
+        lists_options.self = a.self;
+        lists_options.order = row_order::index;
+        csr<T> lists;
+        if (a.queries.empty()) {
+            lists = a.knn ? g.nearest(a.knn, lists_options) : g.neighbor_lists(lists_options);
+        } else {
+            const auto& q = std::get<std::vector<T>>(queries.coords);
+            lists = a.knn ? g.query_nearest(q, a.knn, lists_options) : g.query(q, lists_options);
+        }
+        if (a.knn) sort_rows_by_index(lists);
+        r.query_ms = clock.lap_ms();
+
+        // Without --queries or --knn the lists are symmetric: files keep each pair once (i <= j).
+        const io::pair_filter filter =
+            a.queries.empty() && a.knn == 0 ? io::pair_filter::upper : io::pair_filter::all;
+        if (!a.output.empty()) io::write_neighbors(a.output, lists, filter);
+        r.write_ms = clock.lap_ms();
+
+        r.points = g.size();
+        r.query_points = a.queries.empty() ? 0 : queries.size();
+        r.dimension = D;
+        r.precision = io::to_string(data.type());
+        r.grid = to_string(g.kind());
+        r.cells = g.cell_count();
+        r.nonempty = g.nonempty_cells();
+        r.cell_size = g.cell_size();
+        r.threads = g.threads();
+        r.pairs = io::count_pairs(lists, filter);
+        for (std::size_t i = 0; i < lists.rows(); ++i)
+            r.max_neighbors = std::max<std::size_t>(r.max_neighbors, lists.row(i).size());
+        r.mean_neighbors = lists.rows() ? double(lists.size()) / double(lists.rows()) : 0.0;
+    });
+    print_report(a, r);
+}
+
+const register_command query_command{"query", [](CLI::App& app) {
+    auto args = std::make_shared<query_args>();
+    CLI::App* cmd = app.add_subcommand(
+        "query", "Find all neighbor pairs within a radius in a point file (.npy, .csv/.txt/.xyz, .ply)");
+    cmd->add_option("INPUT", args->input, "Point file: .npy (float32/float64, (N,2) or (N,3)), .csv/.txt/.xyz, .ply");
+    cmd->add_option("--radius,-r", args->radius, "Search radius: pairs with distance <= R")
+        ->required()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--output,-o", args->output,
+                    "Output file: .npy (int64 pairs (M,2)), .csv (i,j,distance) or .npz (CSR lists)");
+    cmd->add_option("--queries", args->queries, "Query points (same formats): pairs are (query index, data index)");
+    cmd->add_option("--generate", args->generate,
+                    "Use a built-in point set instead of INPUT: lattice:N (N^dim jittered lattice points, "
+                    "spacing 1) or uniform:N (N uniform points at density 1)");
+    cmd->add_option("--dim", args->dim, "Dimension of --generate points")->check(CLI::IsMember({2, 3}));
+    cmd->add_option("--seed", args->seed, "Random seed of --generate");
+    cmd->add_option("--grid", args->grid, "Grid kind")->check(CLI::IsMember({"auto", "uniform", "hash"}));
+    cmd->add_option("--cell-size", args->cell_size, "Cell edge, between radius/4 and radius (default: radius)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--periodic", args->periodic, "Periodic box [0,LX)x[0,LY)[x[0,LZ)]: LX,LY[,LZ]");
+    cmd->add_option("--knn", args->knn, "Keep at most K nearest neighbors within the radius per point")
+        ->check(CLI::PositiveNumber);
+    cmd->add_flag("--self", args->self, "Include each point as its own neighbor (pair (i,i), distance 0)");
+    cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--json", args->json, "Print the summary as one JSON object");
+    cmd->callback([args] { run_query(*args); });
+}};
+
+}  // namespace
+}  // namespace frnn::app
+#endif

@@ -1,0 +1,45 @@
+// Readers of point files: .npy (float32/float64, shape (N,2) or (N,3), C or Fortran order),
+// .csv/.txt/.xyz (2 or 3 numeric columns separated by commas or white space, '#' comments,
+// one optional header line) and .ply (ascii or binary, vertex x y [z]).
+// Each reader is O(file size) and keeps one copy of the points (text and ply also hold the
+// file in memory while parsing). Every malformed input throws frnn::error naming the file and
+// the line (text formats) or byte / element index, and what was wrong; a non-finite coordinate
+// names its point index. Zero points is a valid result.
+// Not part of the public API. Thread safety: free functions without shared state.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "frnn/io/point_set.hpp"
+
+namespace frnn::io {
+
+/// Reads a point file, choosing the format by its extension (case-insensitive).
+point_set read_points(const std::filesystem::path& file);
+/// True when read_points knows the extension of `file`.
+bool is_point_file(const std::filesystem::path& file);
+
+point_set read_npy_points(const std::filesystem::path& file);
+point_set read_text_points(const std::filesystem::path& file);
+point_set read_ply_points(const std::filesystem::path& file);
+
+/// The same parsers over bytes already in memory; `name` is the file name used in messages.
+point_set parse_text_points(std::string_view text, std::string_view name);
+point_set parse_ply_points(std::string_view bytes, std::string_view name);
+
+/// The header of an .npy array: what the dictionary said and where the data starts.
+struct npy_header {
+    std::string descr;                 ///< e.g. "<f8"
+    bool fortran_order = false;
+    std::vector<std::uint64_t> shape;  ///< empty for a scalar
+    std::size_t data_offset = 0;       ///< bytes from the magic to the first data byte
+    std::uint64_t count() const;       ///< product of the shape (1 for a scalar)
+};
+/// Parses the magic, version and header dictionary at the start of `bytes`, which must hold
+/// at least the whole header. Throws frnn::error naming `name` and the byte offset.
+npy_header parse_npy_header(std::string_view bytes, std::string_view name);
+
+}  // namespace frnn::io

@@ -1,0 +1,103 @@
+// .npy point reader: the header is parsed from the first bytes, then the data is read straight
+// into the result (Fortran-order files are transposed on the way).
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "frnn/io/read.hpp"
+#include "util.hpp"
+
+namespace frnn::io {
+
+namespace {
+using file_ptr = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+std::string shape_text(const std::vector<std::uint64_t>& shape) {
+    std::string s = "(";
+    for (std::size_t k = 0; k < shape.size(); ++k)
+        s += (k ? ", " : "") + std::to_string(shape[k]);
+    return s + (shape.size() == 1 ? ",)" : ")");
+}
+
+template <class T>
+std::vector<T> read_data(std::FILE* f, const npy_header& h, std::string_view name) {
+    const std::size_t n = h.shape[0], d = h.shape[1];
+    std::vector<T> values(n * d);
+    if (std::fread(values.data(), sizeof(T), values.size(), f) != values.size())
+        detail::fail(name, std::string("read error in the data: ") + std::strerror(errno));
+    if (!h.fortran_order) return values;
+    std::vector<T> interleaved(values.size());  // file holds all x, then all y, then all z
+    for (std::size_t a = 0; a < d; ++a)
+        for (std::size_t i = 0; i < n; ++i) interleaved[i * d + a] = values[a * n + i];
+    return interleaved;
+}
+}  // namespace
+
+point_set read_npy_points(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    file_ptr f(std::fopen(name.c_str(), "rb"), std::fclose);
+    if (!f) detail::fail(name, std::string("cannot open: ") + std::strerror(errno));
+    std::error_code ec;
+    const std::uint64_t file_size = std::filesystem::file_size(file, ec);
+    if (ec) detail::fail(name, "cannot read size: " + ec.message());
+
+    // The header length sits in bytes 8-9 (version 1) or 8-11 (versions 2 and 3).
+    std::string head(std::min<std::uint64_t>(file_size, 12), '\0');
+    if (std::fread(head.data(), 1, head.size(), f.get()) != head.size())
+        detail::fail(name, "read error in the header");
+    std::size_t total = head.size();
+    if (head.size() >= 10 && head.compare(0, 6, "\x93NUMPY") == 0) {
+        const bool v1 = head[6] == 1;
+        std::uint64_t length = std::uint8_t(head[8]) | std::uint64_t(std::uint8_t(head[9])) << 8;
+        if (!v1 && head.size() == 12)
+            length |= std::uint64_t(std::uint8_t(head[10])) << 16 |
+                      std::uint64_t(std::uint8_t(head[11])) << 24;
+        total = std::size_t(std::min<std::uint64_t>(file_size, (v1 ? 10 : 12) + length));
+    }
+    const std::size_t have = head.size();
+    head.resize(std::max(total, have));
+    if (total > have && std::fread(head.data() + have, 1, total - have, f.get()) != total - have)
+        detail::fail(name, "read error in the header");
+    const npy_header h = parse_npy_header(head, name);
+    // Position the stream at the data (version-1 headers were over-read by two bytes).
+    if (std::fseek(f.get(), long(h.data_offset), SEEK_SET) != 0)
+        detail::fail(name, "cannot seek to the data");
+
+    const bool f32 = h.descr == "<f4", f64 = h.descr == "<f8";
+    if (!f32 && !f64) {
+        const bool big = !h.descr.empty() && h.descr[0] == '>';
+        detail::fail(name, "dtype '" + h.descr + "' is not supported" +
+                               (big ? " (big-endian)" : "") +
+                               ": point files need little-endian float32 ('<f4') or float64 ('<f8')");
+    }
+    if (h.shape.size() != 2 || (h.shape[1] != 2 && h.shape[1] != 3))
+        detail::fail(name, "shape " + shape_text(h.shape) + " is not (N, 2) or (N, 3)");
+
+    const std::uint64_t item = f32 ? 4 : 8;
+    const std::uint64_t n = h.shape[0];
+    if (n > (std::uint64_t(1) << 60) / (item * 3))
+        detail::fail(name, "shape " + shape_text(h.shape) + " is too large");
+    const std::uint64_t need = n * h.shape[1] * item, avail = file_size - h.data_offset;
+    if (avail < need)
+        detail::fail(name, "byte " + std::to_string(file_size) + ": data truncated: shape " +
+                               shape_text(h.shape) + " needs " + std::to_string(need) +
+                               " bytes after the header (byte " + std::to_string(h.data_offset) +
+                               "), the file has " + std::to_string(avail));
+    if (avail > need)
+        detail::fail(name, "byte " + std::to_string(h.data_offset + need) + ": " +
+                               std::to_string(avail - need) +
+                               " unexpected bytes after the data of shape " + shape_text(h.shape));
+
+    point_set points;
+    points.dimension = int(h.shape[1]);
+    if (f32)
+        points.coords = read_data<float>(f.get(), h, name);
+    else
+        points.coords = read_data<double>(f.get(), h, name);
+    std::visit([&](const auto& v) { detail::check_finite(std::span(v), points.dimension, name); },
+               points.coords);
+    return points;
+}
+
+}  // namespace frnn::io

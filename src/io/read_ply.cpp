@@ -1,0 +1,283 @@
+// .ply point reader: the vertex element's x, y (and z when present) of any scalar type, in
+// ascii, binary_little_endian or binary_big_endian files. Elements before the vertices are
+// skipped item by item (list properties included); elements after them are not read.
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "frnn/io/read.hpp"
+#include "util.hpp"
+
+namespace frnn::io {
+
+namespace {
+enum class scalar { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+bool parse_scalar(std::string_view word, scalar& out) {
+    static constexpr std::pair<std::string_view, scalar> names[] = {
+        {"char", scalar::i8},    {"int8", scalar::i8},     {"uchar", scalar::u8},
+        {"uint8", scalar::u8},   {"short", scalar::i16},   {"int16", scalar::i16},
+        {"ushort", scalar::u16}, {"uint16", scalar::u16},  {"int", scalar::i32},
+        {"int32", scalar::i32},  {"uint", scalar::u32},    {"uint32", scalar::u32},
+        {"float", scalar::f32},  {"float32", scalar::f32}, {"double", scalar::f64},
+        {"float64", scalar::f64}};
+    for (auto [n, s] : names)
+        if (n == word) {
+            out = s;
+            return true;
+        }
+    return false;
+}
+
+std::size_t size_of(scalar s) {
+    static constexpr std::size_t sizes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+    return sizes[int(s)];
+}
+
+struct property {
+    std::string name;
+    scalar type = scalar::f32;
+    bool list = false;
+    scalar count_type = scalar::u8;
+};
+
+struct element {
+    std::string name;
+    std::uint64_t count = 0;
+    std::size_t header_line = 0;
+    std::vector<property> props;
+};
+
+enum class encoding { ascii, little, big };
+
+struct header {
+    encoding format = encoding::ascii;
+    std::vector<element> elements;
+    std::size_t data_offset = 0;
+    std::size_t lines = 0;  // header lines, so ascii data starts at line lines + 1
+};
+
+std::vector<std::string_view> words(std::string_view line) {
+    std::vector<std::string_view> out;
+    std::size_t pos = 0;
+    while ((pos = line.find_first_not_of(" \t\r", pos)) != std::string_view::npos) {
+        const std::size_t end = line.find_first_of(" \t\r", pos);
+        out.push_back(line.substr(pos, end - pos));
+        pos = end;
+    }
+    return out;
+}
+
+header parse_header(std::string_view bytes, std::string_view name) {
+    header h;
+    bool format_seen = false;
+    std::size_t pos = 0;
+    while (true) {
+        const std::size_t eol = bytes.find('\n', pos);
+        ++h.lines;
+        const auto where = "line " + std::to_string(h.lines) + ": ";
+        if (eol == std::string_view::npos)
+            detail::fail(name, where + (h.lines == 1 ? "not a ply file (empty)"
+                                                     : "header ends without 'end_header'"));
+        const auto w = words(bytes.substr(pos, eol - pos));
+        pos = eol + 1;
+        if (h.lines == 1) {
+            if (w.size() != 1 || w[0] != "ply") detail::fail(name, where + "not a ply file (no 'ply' magic)");
+            continue;
+        }
+        if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+        if (w[0] == "end_header") break;
+        if (w[0] == "format") {
+            if (w.size() != 3) detail::fail(name, where + "expected 'format <type> 1.0'");
+            if (w[1] == "ascii") h.format = encoding::ascii;
+            else if (w[1] == "binary_little_endian") h.format = encoding::little;
+            else if (w[1] == "binary_big_endian") h.format = encoding::big;
+            else detail::fail(name, where + "unknown format '" + std::string(w[1]) + "'");
+            format_seen = true;
+        } else if (w[0] == "element") {
+            double count;
+            if (w.size() != 3 || !detail::parse_number(w[2], count) || count < 0 ||
+                count != std::floor(count) || count > 4294967295.0)
+                detail::fail(name, where + "expected 'element <name> <count>' with a count in [0, 2^32)");
+            h.elements.push_back({std::string(w[1]), std::uint64_t(count), h.lines, {}});
+        } else if (w[0] == "property") {
+            if (h.elements.empty()) detail::fail(name, where + "property before any element");
+            property p;
+            const bool list = w.size() == 5 && w[1] == "list";
+            if (!(list || w.size() == 3) ||
+                (list && (!parse_scalar(w[2], p.count_type) || !parse_scalar(w[3], p.type))) ||
+                (!list && !parse_scalar(w[1], p.type)))
+                detail::fail(name, where + "expected 'property <type> <name>' or 'property list "
+                                           "<count type> <type> <name>' with types such as "
+                                           "uchar, int, float, double");
+            if (list && (p.count_type == scalar::f32 || p.count_type == scalar::f64))
+                detail::fail(name, where + "list count type must be an integer type");
+            p.list = list;
+            p.name = std::string(w.back());
+            h.elements.back().props.push_back(p);
+        } else {
+            detail::fail(name, where + "unknown header keyword '" + std::string(w[0]) + "'");
+        }
+    }
+    if (!format_seen) detail::fail(name, "line 2: missing 'format' line");
+    h.data_offset = pos;
+    return h;
+}
+
+// Binary data: scalars read at byte offsets, with bounds checks that name the item.
+struct binary_cursor {
+    std::string_view data;
+    std::size_t pos;
+    bool swap;
+    std::string_view name;
+
+    double read(scalar s, const element& e, std::uint64_t item, const property& p) {
+        const std::size_t n = size_of(s);
+        if (data.size() - pos < n)
+            detail::fail(name, "byte " + std::to_string(data.size()) + ": data truncated in element '" +
+                                   e.name + "' item " + std::to_string(item) + " of " +
+                                   std::to_string(e.count) + " (property '" + p.name + "')");
+        unsigned char b[8];
+        std::memcpy(b, data.data() + pos, n);
+        pos += n;
+        if (swap) std::reverse(b, b + n);
+        auto as = [&]<class U>(U) {
+            U v;
+            std::memcpy(&v, b, sizeof v);
+            return double(v);
+        };
+        switch (s) {
+            case scalar::i8: return as(std::int8_t{});
+            case scalar::u8: return as(std::uint8_t{});
+            case scalar::i16: return as(std::int16_t{});
+            case scalar::u16: return as(std::uint16_t{});
+            case scalar::i32: return as(std::int32_t{});
+            case scalar::u32: return as(std::uint32_t{});
+            case scalar::f32: return as(float{});
+            case scalar::f64: return as(double{});
+        }
+        return 0;
+    }
+};
+
+// Ascii data: white-space separated tokens; errors name the line.
+struct ascii_cursor {
+    std::string_view data;
+    std::size_t pos;
+    std::size_t line;
+    std::string_view name;
+
+    double read(scalar, const element& e, std::uint64_t item, const property& p) {
+        while (pos < data.size() && std::strchr(" \t\r\n", data[pos]) && data[pos] != '\0') {
+            if (data[pos] == '\n') ++line;
+            ++pos;
+        }
+        const std::string where = "line " + std::to_string(line) + ": element '" + e.name +
+                                  "' item " + std::to_string(item) + " of " +
+                                  std::to_string(e.count) + ", property '" + p.name + "': ";
+        if (pos >= data.size()) detail::fail(name, where + "unexpected end of file");
+        const std::size_t start = pos;
+        while (pos < data.size() && !std::strchr(" \t\r\n", data[pos])) ++pos;
+        const std::string_view token = data.substr(start, pos - start);
+        double v;
+        if (!detail::parse_number(token, v))
+            detail::fail(name, where + "'" + std::string(token) + "' is not a number");
+        return v;
+    }
+};
+
+// Reads one item of element e; values of the scalar properties go to out (lists are skipped).
+template <class Cursor>
+void read_item(Cursor& c, const element& e, std::uint64_t item, double* out) {
+    for (std::size_t k = 0; k < e.props.size(); ++k) {
+        const property& p = e.props[k];
+        if (!p.list) {
+            out[k] = c.read(p.type, e, item, p);
+            continue;
+        }
+        const double n = c.read(p.count_type, e, item, p);
+        if (n < 0 || n != std::floor(n))
+            detail::fail(c.name, "element '" + e.name + "' item " + std::to_string(item) +
+                                     ": bad list length " + std::to_string(n) + " of property '" +
+                                     p.name + "'");
+        for (std::uint64_t m = 0; m < std::uint64_t(n); ++m) c.read(p.type, e, item, p);
+    }
+}
+
+template <class T, class Cursor>
+std::vector<T> read_vertices(Cursor& c, const header& h, std::size_t vertex, const int (&axes)[3],
+                             int dimension) {
+    std::vector<double> values(64);
+    for (std::size_t e = 0; e < vertex; ++e) {
+        if (h.elements[e].props.empty()) continue;
+        values.resize(std::max(values.size(), h.elements[e].props.size()));
+        for (std::uint64_t item = 0; item < h.elements[e].count; ++item)
+            read_item(c, h.elements[e], item, values.data());
+    }
+    const element& v = h.elements[vertex];
+    values.resize(std::max(values.size(), v.props.size()));
+    std::vector<T> coords;
+    // A lying count must not allocate more than the file could hold.
+    coords.reserve(std::min<std::size_t>(std::size_t(v.count) * std::size_t(dimension), c.data.size()));
+    for (std::uint64_t item = 0; item < v.count; ++item) {
+        read_item(c, v, item, values.data());
+        for (int a = 0; a < dimension; ++a) {
+            const double x = values[std::size_t(axes[a])];
+            if (!std::isfinite(x))
+                detail::fail(c.name, "vertex " + std::to_string(item) +
+                                         " has a non-finite coordinate (" + std::to_string(x) + ")");
+            coords.push_back(T(x));
+        }
+    }
+    return coords;
+}
+
+template <class T>
+std::vector<T> read_vertex_data(std::string_view bytes, const header& h, std::size_t vertex,
+                                const int (&axes)[3], int dimension, std::string_view name) {
+    if (h.format == encoding::ascii) {
+        ascii_cursor c{bytes, h.data_offset, h.lines + 1, name};
+        return read_vertices<T>(c, h, vertex, axes, dimension);
+    }
+    binary_cursor c{bytes, h.data_offset, h.format == encoding::big, name};
+    return read_vertices<T>(c, h, vertex, axes, dimension);
+}
+}  // namespace
+
+point_set parse_ply_points(std::string_view bytes, std::string_view name) {
+    const header h = parse_header(bytes, name);
+    std::size_t vertex = 0;
+    while (vertex < h.elements.size() && h.elements[vertex].name != "vertex") ++vertex;
+    if (vertex == h.elements.size()) detail::fail(name, "the header has no 'vertex' element");
+    const element& v = h.elements[vertex];
+
+    int axes[3] = {-1, -1, -1};
+    bool all_float = true;
+    for (std::size_t k = 0; k < v.props.size(); ++k)
+        for (int a = 0; a < 3; ++a)
+            if (v.props[k].name == std::string_view("xyz" + a, 1)) {
+                if (v.props[k].list)
+                    detail::fail(name, "line " + std::to_string(v.header_line) + ": vertex property '" +
+                                           v.props[k].name + "' is a list, expected a scalar");
+                axes[a] = int(k);
+                all_float = all_float && v.props[k].type == scalar::f32;
+            }
+    for (int a = 0; a < 2; ++a)
+        if (axes[a] < 0)
+            detail::fail(name, "line " + std::to_string(v.header_line) +
+                                   ": element 'vertex' has no property '" + "xy"[a] + "'");
+
+    point_set points;
+    points.dimension = axes[2] < 0 ? 2 : 3;
+    if (all_float)
+        points.coords = read_vertex_data<float>(bytes, h, vertex, axes, points.dimension, name);
+    else
+        points.coords = read_vertex_data<double>(bytes, h, vertex, axes, points.dimension, name);
+    return points;
+}
+
+point_set read_ply_points(const std::filesystem::path& file) {
+    return parse_ply_points(detail::read_file(file), file.string());
+}
+
+}  // namespace frnn::io
