@@ -3,12 +3,14 @@
 // each chunk fills its own buffer, and buffers are combined in chunk order, so the output does
 // not depend on the thread count.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <string>
 
 #include "cpu/parallel.hpp"
+#include "cpu/simd_mask.hpp"
 #include "frnn/grid.hpp"
 
 namespace frnn {
@@ -31,46 +33,61 @@ struct distance_kernel {
         for (int a = 0; a < D; ++a) box[a] = periodic ? T(g.options().periodic[a]) : T(0);
     }
 
-    /// Calls emit(j, d2) for every candidate j of the runs (the caller tests d2 <= r2);
-    /// candidates of shared hash slots outside their run's cell are skipped.
-    template <bool Periodic, class Emit>
-    void scan(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n, Emit&& emit) const {
-        for (std::size_t k = 0; k < n; ++k) {
-            const auto& run = runs[k];
-            if (run.filter) {
-                for (std::uint32_t j = run.begin; j < run.end; ++j) {
-                    std::array<T, D> q;
-                    for (int a = 0; a < D; ++a) q[a] = p[a][j];
-                    if (g.cell_of(q) == run.cell) emit(j, d2_at<Periodic>(x, j));
-                }
-                continue;
+    /// Squared distances from x to the sorted points [begin, begin + len), into out: one
+    /// branch-free loop over contiguous coordinates that the compiler vectorizes.
+    template <bool Periodic>
+    void d2_block(const std::array<T, D>& x, std::uint32_t begin, std::uint32_t len, T* __restrict out) const {
+        const T* __restrict px = p[0] + begin;
+        const T* __restrict py = p[1] + begin;
+        const T* __restrict pz = p[D - 1] + begin;
+        const T x0 = x[0], x1 = x[1], x2 = x[D - 1];
+        for (std::uint32_t k = 0; k < len; ++k) {
+            T dx = px[k] - x0, dy = py[k] - x1;
+            if constexpr (Periodic) {
+                dx -= box[0] * std::nearbyint(dx / box[0]);
+                dy -= box[1] * std::nearbyint(dy / box[1]);
             }
-            for (std::uint32_t j = run.begin; j < run.end; ++j) emit(j, d2_at<Periodic>(x, j));
+            T d2 = dx * dx;
+            d2 += dy * dy;
+            if constexpr (D == 3) {
+                T dz = pz[k] - x2;
+                if constexpr (Periodic) dz -= box[2] * std::nearbyint(dz / box[2]);
+                d2 += dz * dz;
+            }
+            out[k] = d2;
         }
     }
 
-    template <bool Periodic>
-    T d2_at(const std::array<T, D>& x, std::uint32_t j) const {
-        T d2 = 0;
-        for (int a = 0; a < D; ++a) {
-            T d = p[a][j] - x[a];
-            if constexpr (Periodic) d -= box[a] * std::nearbyint(d / box[a]);
-            d2 += d * d;
+    /// Calls block(begin, len, d2) for the candidates of the runs, in blocks of at most
+    /// `block_size`; candidates of shared hash slots outside their run's cell get d2 = +inf.
+    static constexpr std::uint32_t block_size = 64;
+    template <bool Periodic, class Block>
+    void for_each_block(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n,
+                        std::uint32_t first, Block&& block) const {
+        alignas(64) T buf[block_size];
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto& run = runs[k];
+            for (std::uint32_t b = std::max(run.begin, first); b < run.end; b += block_size) {
+                const std::uint32_t len = std::min(block_size, run.end - b);
+                d2_block<Periodic>(x, b, len, buf);
+                if (run.filter) {
+                    for (std::uint32_t m = 0; m < len; ++m) {
+                        std::array<T, D> q;
+                        for (int a = 0; a < D; ++a) q[a] = p[a][b + m];
+                        if (g.cell_of(q) != run.cell) buf[m] = T(INFINITY);
+                    }
+                }
+                block(b, len, static_cast<const T*>(buf));
+            }
         }
-        return d2;
     }
 
     template <bool Periodic>
     std::uint32_t count(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n) const {
         std::uint32_t c = 0;
-        for (std::size_t k = 0; k < n; ++k) {
-            const auto& run = runs[k];
-            if (run.filter) {
-                scan<Periodic>(x, &run, 1, [&](std::uint32_t, T d2) { c += d2 <= r2; });
-                continue;
-            }
-            for (std::uint32_t j = run.begin; j < run.end; ++j) c += d2_at<Periodic>(x, j) <= r2;
-        }
+        for_each_block<Periodic>(x, runs, n, 0, [&](std::uint32_t, std::uint32_t len, const T* d2) {
+            c += std::uint32_t(std::popcount(detail::le_mask(d2, len, r2)));
+        });
         return c;
     }
 };
@@ -246,28 +263,27 @@ struct query_engine {
                  const std::size_t start = ch.used;
                  const std::uint32_t skip = exclude_self ? s : no_index;
                  const std::uint32_t ps = from_queries ? 0 : perm[s];
+                 const std::uint32_t first = half && sorted_space ? (o.self ? s : s + 1) : 0;
                  auto emit_all = [&](auto periodic_tag) {
                      constexpr bool P = decltype(periodic_tag)::value;
-                     for (std::size_t k = 0; k < n; ++k) {
-                         candidate_run run = runs[k];
-                         if (half && sorted_space) run.begin = std::max(run.begin, o.self ? s : s + 1);
-                         if (run.begin >= run.end) continue;
-                         ch.reserve_more(run.end - run.begin);
-                         std::uint32_t* idx = ch.index.data();
-                         T* dd = need_d2 ? ch.d2.data() : nullptr;
-                         auto emit = [&](std::uint32_t j, T d2) {
-                             bool keep = d2 <= r2 && j != skip;
-                             if (half && !sorted_space) keep = keep && (perm[j] > ps || (o.self && j == s));
-                             idx[ch.used] = j;
-                             if (dd) dd[ch.used] = d2;
-                             ch.used += keep;
-                         };
-                         if (run.filter) {
-                             kern.template scan<P>(x, &run, 1, emit);
-                         } else {
-                             for (std::uint32_t j = run.begin; j < run.end; ++j) emit(j, kern.template d2_at<P>(x, j));
+                     kern.template for_each_block<P>(x, runs, n, first, [&](std::uint32_t b, std::uint32_t len, const T* d2) {
+                         std::uint64_t hits = detail::le_mask(d2, len, r2);
+                         if (hits == 0) return;
+                         ch.reserve_more(len);
+                         std::uint32_t* __restrict idx = ch.index.data();
+                         T* __restrict dd = ch.d2.data();
+                         std::size_t used = ch.used;
+                         for (; hits; hits &= hits - 1) {
+                             const std::uint32_t m = std::uint32_t(std::countr_zero(hits));
+                             const std::uint32_t j = b + m;
+                             if (j == skip) continue;
+                             if (half && !sorted_space && !(perm[j] > ps || (o.self && j == s))) continue;
+                             idx[used] = j;
+                             if (need_d2) dd[used] = d2[m];
+                             ++used;
                          }
-                     }
+                         ch.used = used;
+                     });
                  };
                  if (kern.periodic) emit_all(std::true_type{});
                  else emit_all(std::false_type{});

@@ -1,0 +1,221 @@
+// frnn/grid.glsl: the neighbor loop of an frnn Vulkan grid, for your own compute shaders.
+//
+// Include it after defining FRNN_DIM (2 or 3, default 3) and optionally FRNN_SET (descriptor
+// set of the grid's buffers, default 0). The grid's buffers take bindings 0-4 of that set:
+// bind them with frnn::vulkan::grid::shader_buffers() (or run the shader with
+// frnn::vulkan::kernel, which does it). Your own buffers use bindings 5 and up.
+//
+//   frnn_iterator it = frnn_begin(frnn_sorted_position(s));
+//   uint j; float d2;
+//   while (frnn_next(it, j, d2)) { if (j != s) { ... } }
+//
+// s and j number the points in cell order ("sorted"); frnn_original_index(s) gives the
+// caller's index. Every point j with |x - x_j| <= radius is visited exactly once, in a fixed
+// order (rows of cells, then increasing original index), so sums are reproducible run to run.
+// Cost: the (2*ceil(r/cell)+1)^d cells around x, ~27 cells' points in 3D with cell = r.
+// Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid.
+#ifndef FRNN_GRID_GLSL
+#define FRNN_GRID_GLSL
+
+#ifndef FRNN_DIM
+#define FRNN_DIM 3
+#endif
+#ifndef FRNN_SET
+#define FRNN_SET 0
+#endif
+
+#if FRNN_DIM == 3
+#define frnn_vec vec3
+#define frnn_ivec ivec3
+#elif FRNN_DIM == 2
+#define frnn_vec vec2
+#define frnn_ivec ivec2
+#else
+#error "FRNN_DIM must be 2 or 3"
+#endif
+
+// Grid parameters, written by the host at build time (std430, 80 bytes).
+struct frnn_grid_params {
+    vec4 origin;      // lower corner of cell (0,0,0)
+    vec4 inv_cell;    // 1 / cell edge
+    ivec4 dims;       // uniform grid: cells per axis
+    float radius;
+    float radius2;    // radius * radius, the acceptance test d2 <= radius2
+    float reach;      // radius * inv_cell: the search half-width in cell units
+    uint count;       // number of points
+    uint hashed;      // 0: uniform grid, 1: hashed grid
+    uint mask;        // hashed: slots - 1
+    uint slots;       // cells (uniform) or table slots (hashed)
+    uint pad;
+};
+
+layout(std430, set = FRNN_SET, binding = 0) readonly buffer frnn_params_block {
+    frnn_grid_params frnn_grid;
+};
+
+// Largest hashed cell coordinate: clamping is monotone, so far outliers share the border cells
+// and stay exact (they are compared by distance anyway).
+const float frnn_max_cell = 1073741824.0;
+
+// Cell coordinate on one axis, before clamping (float, may be huge for outliers).
+float frnn_cell_float(float x, int axis) {
+    precise float u = (x - frnn_grid.origin[axis]) * frnn_grid.inv_cell[axis];
+    return u;
+}
+
+int frnn_clamp_cell(float f, int axis) {
+    if (frnn_grid.hashed != 0u) return int(clamp(f, -frnn_max_cell, frnn_max_cell));
+    return int(clamp(f, 0.0, float(frnn_grid.dims[axis] - 1)));
+}
+
+frnn_ivec frnn_cell_of(frnn_vec x) {
+    frnn_ivec c;
+    for (int a = 0; a < FRNN_DIM; ++a) c[a] = frnn_clamp_cell(floor(frnn_cell_float(x[a], a)), a);
+    return c;
+}
+
+// Hashed grid: a row of cells (y, z) hashes to a base slot and x adds to it, so the cells of one
+// stencil row are consecutive slots (one run of points), as in frnn's CPU grid.
+uint frnn_row_hash(int y, int z) {
+    uint h = uint(y) * 0x9E3779B1u ^ uint(z) * 0x85EBCA77u;
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    return h;
+}
+
+uint frnn_slot_of(frnn_ivec c) {
+#if FRNN_DIM == 3
+    if (frnn_grid.hashed != 0u) return (frnn_row_hash(c.y, c.z) + uint(c.x)) & frnn_grid.mask;
+    return uint(c.x + frnn_grid.dims.x * (c.y + frnn_grid.dims.y * c.z));
+#else
+    if (frnn_grid.hashed != 0u) return (frnn_row_hash(c.y, 0) + uint(c.x)) & frnn_grid.mask;
+    return uint(c.x + frnn_grid.dims.x * c.y);
+#endif
+}
+
+#ifndef FRNN_GRID_PARAMS_ONLY
+
+layout(std430, set = FRNN_SET, binding = 1) readonly buffer frnn_sorted_pos_block {
+    float frnn_sorted_pos[];    // FRNN_DIM floats per point, cell order
+};
+layout(std430, set = FRNN_SET, binding = 2) readonly buffer frnn_sorted_cell_block {
+    int frnn_sorted_cell[];     // FRNN_DIM cell coordinates per point, cell order
+};
+layout(std430, set = FRNN_SET, binding = 3) readonly buffer frnn_start_block {
+    uint frnn_start[];          // slots + 1 entries: points of slot k are [start[k], start[k+1])
+};
+layout(std430, set = FRNN_SET, binding = 4) readonly buffer frnn_perm_block {
+    uint frnn_perm[];           // sorted index -> caller's index
+};
+
+frnn_vec frnn_sorted_position(uint s) {
+    frnn_vec x;
+    for (int a = 0; a < FRNN_DIM; ++a) x[a] = frnn_sorted_pos[s * FRNN_DIM + a];
+    return x;
+}
+
+uint frnn_original_index(uint s) { return frnn_perm[s]; }
+
+// Walks the rows of cells (fixed y[, z]) around a point; each row is one run of sorted points
+// (two when a hashed row wraps around the end of the table).
+struct frnn_iterator {
+    frnn_vec x;
+    frnn_ivec lo, hi;   // cell range, inclusive
+    frnn_ivec row;      // current row (x component unused)
+    uint j, end;        // current run
+    uint next_begin, next_end;  // second half of a wrapped hashed run
+    bool done;
+};
+
+// Sets the run of the current row.
+void frnn_load_row(inout frnn_iterator it) {
+    frnn_ivec a = it.row, b = it.row;
+    a.x = it.lo.x;
+    b.x = it.hi.x;
+    const uint sa = frnn_slot_of(a);
+    const uint width = uint(it.hi.x - it.lo.x);
+    it.next_begin = it.next_end = 0u;
+    if (frnn_grid.hashed != 0u && sa + width >= frnn_grid.slots) {
+        it.j = frnn_start[sa];
+        it.end = frnn_start[frnn_grid.slots];
+        it.next_begin = frnn_start[0];
+        it.next_end = frnn_start[sa + width - frnn_grid.slots + 1u];
+    } else {
+        it.j = frnn_start[sa];
+        it.end = frnn_start[frnn_slot_of(b) + 1u];
+    }
+}
+
+frnn_iterator frnn_begin(frnn_vec x) {
+    frnn_iterator it;
+    it.x = x;
+    for (int a = 0; a < FRNN_DIM; ++a) {
+        // The margin covers the rounding of the cell coordinates of both points, so a pair
+        // within the radius is never missed (it may only widen the range by one cell).
+        const float u = frnn_cell_float(x[a], a);
+        const float margin = 1e-3 + abs(u) * (1.0 / 1048576.0);
+        it.lo[a] = frnn_clamp_cell(floor(u - frnn_grid.reach - margin), a);
+        it.hi[a] = frnn_clamp_cell(floor(u + frnn_grid.reach + margin), a);
+    }
+    it.row = it.lo;
+    it.done = frnn_grid.count == 0u;
+    if (!it.done) frnn_load_row(it);
+    return it;
+}
+
+// Next neighbor: j (sorted index) and its squared distance; false when done.
+bool frnn_next(inout frnn_iterator it, out uint j, out float d2) {
+    while (!it.done) {
+        while (it.j < it.end) {
+            const uint k = it.j++;
+            if (frnn_grid.hashed != 0u) {
+                // Other cells share the slots: keep only this row's cells in range.
+                const int cx = frnn_sorted_cell[k * FRNN_DIM];
+                if (cx < it.lo.x || cx > it.hi.x) continue;
+                bool same_row = true;
+                for (int a = 1; a < FRNN_DIM; ++a)
+                    same_row = same_row && frnn_sorted_cell[k * FRNN_DIM + a] == it.row[a];
+                if (!same_row) continue;
+            }
+            // Same formula and order as frnn's CPU grid: d = x_j - x, d2 = sum of d*d.
+            precise float sum = 0.0;
+            for (int a = 0; a < FRNN_DIM; ++a) {
+                precise float d = frnn_sorted_pos[k * FRNN_DIM + a] - it.x[a];
+                sum = sum + d * d;
+            }
+            if (sum <= frnn_grid.radius2) {
+                j = k;
+                d2 = sum;
+                return true;
+            }
+        }
+        if (it.next_end > it.next_begin) {
+            it.j = it.next_begin;
+            it.end = it.next_end;
+            it.next_begin = it.next_end = 0u;
+            continue;
+        }
+        // Next row.
+        bool advanced = false;
+        for (int a = 1; a < FRNN_DIM && !advanced; ++a) {
+            if (it.row[a] < it.hi[a]) {
+                it.row[a] += 1;
+                advanced = true;
+            } else {
+                it.row[a] = it.lo[a];
+            }
+        }
+        if (!advanced) {
+            it.done = true;
+        } else {
+            frnn_load_row(it);
+        }
+    }
+    j = 0u;
+    d2 = 0.0;
+    return false;
+}
+
+#endif  // FRNN_GRID_PARAMS_ONLY
+#endif  // FRNN_GRID_GLSL

@@ -1,0 +1,216 @@
+// frnn::vulkan: the neighbor search on a GPU (or any Vulkan device) with compute shaders.
+//
+// A context owns (or wraps) a Vulkan device and queue. A vulkan::grid<D> is built on the device
+// from host coordinates or from the caller's own VkBuffer (no copy): bounding box, insertion
+// with atomics, multi-level exclusive scan, scatter and a stable pass, ~8 dispatches for 1M
+// points. Queries run on the device: neighbor counts, CSR neighbor lists (count, scan, fill)
+// and the k nearest within the radius. Results equal the CPU grid's pairs exactly (same float
+// formula, `precise` arithmetic), rows in a deterministic order. Float coordinates, 2D and 3D,
+// uniform and hashed grids; periodic boxes are not supported on the device (frnn::error).
+// User shaders loop over neighbors with the GLSL include frnn/grid.glsl (see kernel).
+//
+// Neighbors: |x_i - x_j| <= r, the real radius, i != j (self only on request).
+// Complexity: build O(N + cells) work; a query visits the cells within r of each point.
+// Every call records its commands, submits them and waits (synchronous); data passed in as a
+// buffer_view must be complete before the call (its writes made visible, e.g. by waiting on the
+// queue). Thread safety: a context and everything made from it are used from one thread at a
+// time.
+// Errors: frnn::error, with the reason (no Vulkan driver, no compute device, a buffer larger
+// than the device's maxStorageBufferRange, non-finite coordinates, a failing Vulkan call).
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "frnn/csr.hpp"
+#include "frnn/error.hpp"
+#include "frnn/options.hpp"
+
+namespace frnn::vulkan {
+
+namespace detail {
+class device;
+class buffer;
+struct grid_state;
+class program;
+}  // namespace detail
+
+enum class severity { verbose, info, warning, error };
+/// Receives the messages of VK_EXT_debug_utils (validation layers) for a context.
+using message_callback = std::function<void(severity, const std::string&)>;
+
+struct context_options {
+    /// Enables VK_LAYER_KHRONOS_validation when it is installed (VK_INSTANCE_LAYERS works too).
+    bool validation = false;
+    /// When set, a debug-utils messenger forwards every message to it.
+    message_callback on_message;
+    /// Index into vkEnumeratePhysicalDevices; -1: the first device with a compute queue.
+    int device_index = -1;
+};
+
+/// A device the caller created and keeps owning: frnn uses it and destroys none of it.
+struct external_device {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;      ///< a queue with compute support
+    std::uint32_t queue_family = 0;
+};
+
+struct device_info {
+    std::string name;
+    std::uint32_t api_version = 0;
+    std::uint32_t subgroup_size = 0;
+    std::uint64_t max_storage_buffer_range = 0;  ///< largest binding (lavapipe: 128 MiB)
+    bool is_cpu = false;                         ///< a software driver such as lavapipe
+};
+
+/// A range of a VkBuffer (created with VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) owned elsewhere.
+struct buffer_view {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceSize offset = 0;
+    VkDeviceSize size = 0;  ///< bytes
+};
+
+class context {
+public:
+    /// Creates an instance and a device on the first compute-capable physical device.
+    explicit context(const context_options& options = {});
+    /// Wraps the caller's device and queue.
+    explicit context(const external_device& device);
+    ~context();
+    context(const context&) = delete;
+    context& operator=(const context&) = delete;
+
+    const device_info& info() const;
+    VkDevice device() const;
+    VkPhysicalDevice physical_device() const;
+    VkQueue queue() const;
+    std::uint32_t queue_family() const;
+
+    detail::device& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<detail::device> impl_;
+};
+
+/// A storage buffer owned by frnn on the context's device, for data you bring (inputs of
+/// grid::build or of a kernel) or read back.
+class device_buffer {
+public:
+    device_buffer(context& ctx, std::size_t bytes, const std::string& what = "buffer");
+    ~device_buffer();
+    device_buffer(device_buffer&&) noexcept;
+    device_buffer& operator=(device_buffer&&) noexcept;
+
+    buffer_view view() const;
+    std::size_t size() const;
+    void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
+    void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
+    template <class U>
+    std::vector<U> download_as() const {
+        std::vector<U> out(size() / sizeof(U));
+        download(out.data(), out.size() * sizeof(U));
+        return out;
+    }
+
+private:
+    std::unique_ptr<detail::buffer> impl_;
+    detail::device* dev_ = nullptr;
+};
+
+/// The neighbor search structure on the device (float coordinates, D = 2 or 3).
+template <int D>
+class grid {
+    static_assert(D == 2 || D == 3, "frnn supports 2D and 3D points");
+
+public:
+    explicit grid(context& ctx);
+    ~grid();
+    grid(grid&&) noexcept;
+    grid& operator=(grid&&) noexcept;
+
+    /// Builds over N*D interleaved coordinates from the host.
+    void build(std::span<const float> coords, float radius, const grid_options& options = {});
+    /// Builds over the caller's buffer: n*D interleaved floats, read in place (no copy).
+    void build(buffer_view coords, std::size_t n, float radius, const grid_options& options = {});
+
+    std::size_t size() const;
+    float radius() const;
+    grid_kind kind() const;           ///< uniform or hashed, never automatic
+    std::size_t cell_count() const;   ///< cells (uniform) or table slots (hashed)
+
+    /// sorted_to_original()[s]: the caller's index of the s-th point in cell order.
+    std::vector<std::uint32_t> sorted_to_original() const;
+    /// Number of neighbors of every point.
+    std::vector<std::uint32_t> count_neighbors(index_space space = index_space::original) const;
+    /// Neighbor lists of every point (all of list_options supported).
+    csr<float> neighbor_lists(const list_options& options = {}) const;
+    /// At most k nearest neighbors within r of every point, sorted by distance (ties by index).
+    csr<float> nearest(std::size_t k, const list_options& options = {}) const;
+
+    /// Neighbor lists left on the device: uint32 offsets (rows + 1), uint32 indices and, when
+    /// options.distances, float squared distances. Owned by the grid, valid until its next
+    /// query or build.
+    struct device_csr {
+        buffer_view offsets, indices, distances_squared;
+        std::size_t rows = 0, pairs = 0;
+    };
+    device_csr neighbor_lists_on_device(const list_options& options = {});
+
+    /// Buffers for frnn/grid.glsl, bindings 0-4: parameters, sorted positions, sorted cell
+    /// coordinates, slot starts, sorted -> original map.
+    std::array<buffer_view, 5> shader_buffers() const;
+
+    context& owner() const;
+    detail::grid_state& state() const { return *state_; }
+
+private:
+    std::unique_ptr<detail::grid_state> state_;
+};
+
+/// A user compute shader (SPIR-V) that includes frnn/grid.glsl. Set 0: bindings 0-4 are the
+/// grid's buffers, bindings 5, 6, ... the caller's buffers in order; push constants up to
+/// `push_bytes`. Dispatches of more than 65535 groups are split into rows: index invocations
+/// with frnn_invocation_index() from grid.glsl.
+class kernel {
+public:
+    kernel(context& ctx, std::span<const std::uint32_t> spirv, std::size_t user_buffers,
+           std::uint32_t push_bytes = 0);
+    ~kernel();
+    kernel(kernel&&) noexcept;
+    kernel& operator=(kernel&&) noexcept;
+
+    template <int D>
+    void run(const grid<D>& g, std::span<const buffer_view> buffers, std::size_t groups,
+             std::span<const std::byte> push = {}) const;
+
+private:
+    context* ctx_ = nullptr;
+    std::size_t user_buffers_ = 0;
+    std::uint32_t push_bytes_ = 0;
+    std::unique_ptr<detail::program> program_;
+};
+
+/// Convenience: neighbor lists of N*dim interleaved host coordinates (dim 2 or 3), computed on
+/// the context's device. Same rows and pairs as frnn::grid<float, dim>::neighbor_lists.
+csr<float> neighbor_lists(context& ctx, std::span<const float> coords, int dim, float radius,
+                          const grid_options& grid = {}, const list_options& lists = {});
+/// Same on a context of its own (first compute-capable device), created for this call.
+csr<float> neighbor_lists(std::span<const float> coords, int dim, float radius,
+                          const grid_options& grid = {}, const list_options& lists = {});
+/// Neighbor counts of N*dim interleaved host coordinates, on the context's device.
+std::vector<std::uint32_t> count_neighbors(context& ctx, std::span<const float> coords, int dim,
+                                           float radius, const grid_options& grid = {});
+
+extern template class grid<2>;
+extern template class grid<3>;
+
+}  // namespace frnn::vulkan

@@ -1,0 +1,435 @@
+// frnn::vulkan::grid: build (bounding box, insert, scan, scatter, stable) and queries (count,
+// CSR lists, k nearest) recorded as dispatches of the embedded shaders.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "device.hpp"
+#include "frnn/vulkan.hpp"
+
+namespace frnn::vulkan {
+
+namespace detail {
+
+constexpr std::size_t group_size = 128;  // FRNN_GROUP_SIZE of the shaders
+constexpr std::size_t scan_block = 1024;  // values scanned by one workgroup
+constexpr std::size_t scan_add_group = 256;
+
+enum : std::uint32_t { flag_half = 1, flag_self = 2, flag_original = 4, flag_distances = 8 };
+
+// Host mirror of frnn_grid_params in frnn/grid.glsl (std430, 80 bytes).
+struct grid_params {
+    float origin[4];
+    float inv_cell[4];
+    std::int32_t dims[4];
+    float radius, radius2, reach;
+    std::uint32_t count, hashed, mask, slots, pad;
+};
+static_assert(sizeof(grid_params) == 80);
+
+std::size_t groups_for(std::size_t n, std::size_t per_group) { return (n + per_group - 1) / per_group; }
+
+struct grid_state {
+    context* ctx = nullptr;
+    device* dev = nullptr;
+    int dim = 3;
+    std::size_t n = 0;
+    float radius = 0;
+    grid_kind kind = grid_kind::uniform;
+    std::size_t slots = 1;
+    grid_params params{};
+    bool built = false;
+
+    buffer params_buf, own_pos, sorted_pos, sorted_cell, start, perm, inverse;
+    buffer point_slot, point_rank, point_cell, tmp, scan_scratch, box;
+    buffer counts, indices, dist2, dummy;
+    buffer_view pos;  // the input coordinates (own_pos or the caller's buffer)
+
+    // Grows (never shrinks) a scratch buffer so rebuilds and repeated queries reuse memory.
+    void ensure(buffer& b, std::size_t bytes, const char* what) {
+        if (!b || b.size() < bytes) {
+            b = buffer();  // free first: peak memory stays one copy
+            b = buffer(*dev, bytes, buffer::kind::storage, what);
+        }
+    }
+
+    std::size_t scan_scratch_bytes(std::size_t count) const {
+        const std::size_t align = std::max<std::size_t>(dev->properties().limits.minStorageBufferOffsetAlignment, 4);
+        std::size_t total = 0;
+        for (std::size_t c = count;;) {
+            const std::size_t groups = groups_for(c, scan_block);
+            total += (groups * 4 + align - 1) / align * align;
+            if (groups <= 1) break;
+            c = groups;
+        }
+        return total;
+    }
+
+    // Exclusive scan in place of `count` uints: one block pass per level, then the
+    // back-propagation of the block totals (2 * levels - 1 dispatches).
+    void record_scan(buffer_view data, std::size_t count, std::size_t scratch_offset) {
+        const std::size_t align = std::max<std::size_t>(dev->properties().limits.minStorageBufferOffsetAlignment, 4);
+        const std::size_t groups = groups_for(count, scan_block);
+        const buffer_view sums = scan_scratch.view(scratch_offset, groups * 4);
+        const std::uint32_t c = std::uint32_t(count);
+        dev->dispatch(dev->get(shader::scan_block, dim), {data, sums}, &c, 4, groups);
+        if (groups > 1) {
+            record_scan(sums, groups, scratch_offset + (groups * 4 + align - 1) / align * align);
+            dev->dispatch(dev->get(shader::scan_add, dim), {data, sums}, &c, 4,
+                          groups_for(count, scan_add_group));
+        }
+    }
+
+    std::array<buffer_view, 5> grid_views() const {
+        return {params_buf.view(0, sizeof(grid_params)), sorted_pos.view(0, std::max<std::size_t>(n * dim * 4, 4)),
+                sorted_cell.view(0, std::max<std::size_t>(n * dim * 4, 4)),
+                start.view(0, (slots + 1) * 4), perm.view(0, std::max<std::size_t>(n * 4, 4))};
+    }
+
+    void check_built(const char* what) const {
+        if (!built) throw error(std::string("vulkan::grid::") + what + ": the grid is not built");
+    }
+
+    void configure(const grid_options& o, const float* lo, const float* hi);
+    void build(buffer_view coords, std::size_t count, float r, const grid_options& o);
+    std::uint32_t flags(const list_options& o) const {
+        std::uint32_t f = 0;
+        if (o.half) f |= flag_half;
+        if (o.self) f |= flag_self;
+        if (o.space == index_space::original) f |= flag_original;
+        return f;
+    }
+    // Counts (capped) into `counts`, scans them; returns the total number of pairs.
+    std::size_t count_and_scan(std::uint32_t flags, std::uint32_t cap, const char* what);
+    void lists_on_device(const list_options& o, std::size_t k);
+    csr<float> download_lists(bool distances);
+    std::size_t pairs = 0;
+};
+
+// Chooses the grid like the CPU grid does: uniform over the bounding box (or the domain) when
+// its cell count is reasonable for N, hashed otherwise.
+void grid_state::configure(const grid_options& o, const float* lo_in, const float* hi_in) {
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
+    if (o.domain_min.empty() != o.domain_max.empty())
+        throw error("vulkan: domain needs both domain_min and domain_max");
+    if (!o.domain_min.empty()) {
+        if (o.domain_min.size() != std::size_t(dim) || o.domain_max.size() != std::size_t(dim))
+            throw error("vulkan: domain bounds need " + std::to_string(dim) + " values each");
+        for (int a = 0; a < dim; ++a) {
+            if (!std::isfinite(o.domain_min[a]) || !std::isfinite(o.domain_max[a]) ||
+                o.domain_min[a] > o.domain_max[a])
+                throw error("vulkan: domain bounds on axis " + std::to_string(a) +
+                            " are not finite and ordered");
+            lo[a] = o.domain_min[a], hi[a] = o.domain_max[a];
+        }
+    }
+    const double cell = o.cell_size > 0 ? o.cell_size : double(radius);
+    double cells = 1;
+    for (int a = 0; a < dim; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
+    kind = o.kind;
+    if (kind == grid_kind::automatic)
+        kind = cells <= std::max(4.0 * double(n), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
+    const double max_cells = double(dev->properties().limits.maxStorageBufferRange) / 4 - 1;
+    if (kind == grid_kind::uniform && !(cells <= max_cells))
+        throw error("vulkan: a uniform grid over this domain would need " + std::to_string(cells) +
+                    " cells, more than one storage buffer of this device holds (" +
+                    std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
+    params = {};
+    for (int a = 0; a < 4; ++a) params.dims[a] = 1, params.inv_cell[a] = 1;
+    for (int a = 0; a < dim; ++a) {
+        params.inv_cell[a] = float(1.0 / cell);
+        if (kind == grid_kind::uniform) {
+            params.origin[a] = float(lo[a]);
+            params.dims[a] = std::int32_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
+        }
+    }
+    if (kind == grid_kind::uniform) {
+        slots = 1;
+        for (int a = 0; a < dim; ++a) slots *= std::size_t(params.dims[a]);
+    } else {
+        slots = std::bit_ceil(std::max<std::size_t>(n, 64));
+    }
+    params.radius = radius;
+    params.radius2 = radius * radius;  // the CPU grid's r2, in float
+    params.reach = float(double(radius) / cell);
+    params.count = std::uint32_t(n);
+    params.hashed = kind == grid_kind::hashed;
+    params.mask = kind == grid_kind::hashed ? std::uint32_t(slots - 1) : 0;
+    params.slots = std::uint32_t(slots);
+}
+
+void grid_state::build(buffer_view coords, std::size_t count, float r, const grid_options& o) {
+    built = false;
+    if (!(r > 0) || !std::isfinite(r))
+        throw error("vulkan::grid::build: radius must be positive and finite, got " + std::to_string(r));
+    if (!o.periodic.empty())
+        throw error("vulkan::grid::build: periodic boxes are not supported on the device; use the CPU grid");
+    if (o.cell_size != 0 && !(o.cell_size >= double(r) / 4 && o.cell_size <= double(r)))
+        throw error("vulkan::grid::build: cell_size must lie in [r/4, r], got " + std::to_string(o.cell_size));
+    if (count >= 0x7FFFFFFFu) throw error("vulkan::grid::build: too many points (" + std::to_string(count) + ")");
+    const std::size_t pos_bytes = count * dim * sizeof(float);
+    if (count > 0 && (!coords.buffer || coords.size < pos_bytes))
+        throw error("vulkan::grid::build: the coordinate buffer holds " + std::to_string(coords.size) +
+                    " bytes, " + std::to_string(count) + " points need " + std::to_string(pos_bytes));
+    n = count;
+    radius = r;
+    pos = {coords.buffer, coords.offset, std::max<std::size_t>(pos_bytes, 4)};
+
+    // 1. Bounding box and finiteness on the device (the host needs them to size the grid).
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    ensure(box, 64, "bounding box");
+    if (n > 0) {
+        const std::size_t words = 2 * dim + 1;
+        dev->begin();
+        dev->fill(box.view(0, words * 4), 0xFFFFFFFFu);
+        dev->fill(box.view(dim * 4, dim * 4), 0u);
+        const std::uint32_t c = std::uint32_t(n);
+        dev->dispatch(dev->get(shader::bbox, dim), {pos, box.view(0, words * 4)}, &c, 4, groups_for(n, group_size));
+        dev->submit();
+        std::uint32_t keys[7];
+        dev->download(box.view(0, words * 4), keys, words * 4);
+        if (keys[2 * dim] != 0xFFFFFFFFu)
+            throw error("vulkan::grid::build: point " + std::to_string(keys[2 * dim]) +
+                        " has a non-finite coordinate");
+        auto from_key = [](std::uint32_t k) {
+            const std::uint32_t b = (k & 0x80000000u) ? (k & 0x7FFFFFFFu) : ~k;
+            float f;
+            std::memcpy(&f, &b, 4);
+            return f;
+        };
+        for (int a = 0; a < dim; ++a) lo[a] = from_key(keys[a]), hi[a] = from_key(keys[dim + a]);
+    }
+    configure(o, lo, hi);
+
+    // 2. Insert, scan, scatter, stable pass: one submission.
+    const std::size_t nb = std::max<std::size_t>(n, 1);
+    ensure(params_buf, sizeof(grid_params), "grid parameters");
+    ensure(start, (slots + 1) * 4, "cell starts");
+    ensure(point_slot, nb * 4, "point slots");
+    ensure(point_rank, nb * 4, "point ranks");
+    ensure(point_cell, nb * dim * 4, "point cells");
+    ensure(tmp, nb * 4, "scatter buffer");
+    ensure(perm, nb * 4, "sorted-to-original map");
+    ensure(inverse, nb * 4, "original-to-sorted map");
+    ensure(sorted_pos, nb * dim * 4, "sorted positions");
+    ensure(sorted_cell, nb * dim * 4, "sorted cells");
+    ensure(scan_scratch, scan_scratch_bytes(slots + 1), "scan scratch");
+
+    const std::uint32_t c = std::uint32_t(n);
+    const auto n4 = [&](std::size_t per) { return std::max<std::size_t>(n * per * 4, 4); };
+    dev->begin();
+    dev->update(params_buf.view(0, sizeof(grid_params)), &params, sizeof(grid_params));
+    dev->fill(start.view(0, (slots + 1) * 4), 0u);
+    if (n > 0) {
+        dev->dispatch(dev->get(shader::insert, dim),
+                      {params_buf.view(0, sizeof(grid_params)), pos, start.view(0, (slots + 1) * 4),
+                       point_slot.view(0, n4(1)), point_rank.view(0, n4(1)), point_cell.view(0, n4(dim))},
+                      nullptr, 0, groups_for(n, group_size));
+        record_scan(start.view(0, (slots + 1) * 4), slots + 1, 0);
+        dev->dispatch(dev->get(shader::scatter, dim),
+                      {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), point_rank.view(0, n4(1)),
+                       tmp.view(0, n4(1))},
+                      &c, 4, groups_for(n, group_size));
+        dev->dispatch(dev->get(shader::stable, dim),
+                      {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
+                       point_cell.view(0, n4(dim)), perm.view(0, n4(1)), inverse.view(0, n4(1)),
+                       sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim))},
+                      &c, 4, groups_for(n, group_size));
+    }
+    dev->submit();
+    built = true;
+}
+
+std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const char* what) {
+    const std::size_t rows_bytes = (n + 1) * 4;
+    ensure(counts, rows_bytes, "neighbor counts");
+    ensure(scan_scratch, scan_scratch_bytes(n + 1), "scan scratch");
+    const auto g = grid_views();
+    const std::uint32_t push[2] = {f, cap};
+    dev->begin();
+    dev->fill(counts.view(0, rows_bytes), 0u);
+    dev->dispatch(dev->get(shader::count, dim), {g[0], g[1], g[2], g[3], g[4], counts.view(0, n * 4)},
+                  push, sizeof(push), groups_for(n, group_size));
+    record_scan(counts.view(0, rows_bytes), n + 1, 0);
+    dev->submit();
+    std::uint32_t total = 0;
+    dev->download(counts.view(n * 4, 4), &total, 4);
+    if (total == 0xFFFFFFFFu)
+        throw error(std::string("vulkan::grid::") + what + ": 2^32 or more pairs; query fewer points");
+    return total;
+}
+
+// Counts, scans and fills the rows on the device (k > 0: k nearest).
+void grid_state::lists_on_device(const list_options& o, std::size_t k) {
+    const bool nearest = k > 0;
+    const bool need_d2 = o.distances || nearest || o.order == row_order::distance;
+    std::uint32_t f = flags(o);
+    if (need_d2) f |= flag_distances;
+    const std::uint32_t cap = nearest ? std::uint32_t(std::min<std::size_t>(k, 0xFFFFFFFFu)) : 0xFFFFFFFFu;
+    pairs = count_and_scan(f, cap, nearest ? "nearest" : "neighbor_lists");
+    const std::size_t limit = dev->properties().limits.maxStorageBufferRange;
+    if (pairs * 4 > limit)
+        throw error("vulkan::grid::" + std::string(nearest ? "nearest" : "neighbor_lists") + ": " +
+                    std::to_string(pairs) + " pairs need " + std::to_string(pairs * 4) +
+                    " bytes per array, more than this device's maxStorageBufferRange of " +
+                    std::to_string(limit) + " bytes; query fewer points or a smaller radius");
+    ensure(indices, pairs * 4, "neighbor indices");
+    ensure(dummy, 16, "unused binding");
+    if (need_d2) ensure(dist2, pairs * 4, "neighbor distances");
+    const auto g = grid_views();
+    const buffer_view offsets = counts.view(0, (n + 1) * 4);
+    const buffer_view idx = indices.view(0, std::max<std::size_t>(pairs * 4, 4));
+    const buffer_view d2 = need_d2 ? dist2.view(0, std::max<std::size_t>(pairs * 4, 4)) : dummy.view(0, 16);
+    const std::uint32_t push[2] = {f, cap};
+    dev->begin();
+    if (pairs > 0) {
+        dev->dispatch(dev->get(nearest ? shader::knn : shader::fill, dim),
+                      {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2}, push, sizeof(push),
+                      groups_for(n, group_size));
+        if (!nearest && o.order != row_order::none) {
+            const std::uint32_t sp[3] = {std::uint32_t(n), o.order == row_order::distance ? 2u : 1u,
+                                         need_d2 ? 1u : 0u};
+            dev->dispatch(dev->get(shader::sort_rows, dim), {offsets, idx, d2}, sp, sizeof(sp),
+                          groups_for(n, group_size));
+        }
+    }
+    dev->submit();
+}
+
+csr<float> grid_state::download_lists(bool distances) {
+    csr<float> out;
+    std::vector<std::uint32_t> off(n + 1);
+    dev->download(counts.view(0, (n + 1) * 4), off.data(), (n + 1) * 4);
+    out.offsets.assign(off.begin(), off.end());
+    out.indices.resize(pairs);
+    dev->download(indices.view(0, pairs * 4), out.indices.data(), pairs * 4);
+    if (distances) {
+        out.distances.resize(pairs);
+        dev->download(dist2.view(0, pairs * 4), out.distances.data(), pairs * 4);
+        // The host's sqrt is correctly rounded, so distances match the CPU grid bit for bit.
+        for (auto& d : out.distances) d = std::sqrt(d);
+    }
+    return out;
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------------
+
+template <int D>
+grid<D>::grid(context& ctx) : state_(std::make_unique<detail::grid_state>()) {
+    state_->ctx = &ctx;
+    state_->dev = &ctx.impl();
+    state_->dim = D;
+}
+
+template <int D>
+grid<D>::~grid() = default;
+template <int D>
+grid<D>::grid(grid&&) noexcept = default;
+template <int D>
+grid<D>& grid<D>::operator=(grid&&) noexcept = default;
+
+template <int D>
+void grid<D>::build(std::span<const float> coords, float radius, const grid_options& options) {
+    if (coords.size() % D != 0)
+        throw error("vulkan::grid::build: " + std::to_string(coords.size()) +
+                    " coordinates is not a multiple of " + std::to_string(D));
+    auto& s = *state_;
+    const std::size_t n = coords.size() / D;
+    s.ensure(s.own_pos, std::max<std::size_t>(coords.size() * 4, 4), "input positions");
+    s.dev->upload(s.own_pos.view(), coords.data(), coords.size() * sizeof(float));
+    s.build(s.own_pos.view(), n, radius, options);
+}
+
+template <int D>
+void grid<D>::build(buffer_view coords, std::size_t n, float radius, const grid_options& options) {
+    state_->build(coords, n, radius, options);
+}
+
+template <int D>
+std::size_t grid<D>::size() const { return state_->n; }
+template <int D>
+float grid<D>::radius() const { return state_->radius; }
+template <int D>
+grid_kind grid<D>::kind() const { return state_->kind; }
+template <int D>
+std::size_t grid<D>::cell_count() const { return state_->slots; }
+template <int D>
+context& grid<D>::owner() const { return *state_->ctx; }
+
+template <int D>
+std::vector<std::uint32_t> grid<D>::sorted_to_original() const {
+    auto& s = *state_;
+    s.check_built("sorted_to_original");
+    std::vector<std::uint32_t> out(s.n);
+    s.dev->download(s.perm.view(0, s.n * 4), out.data(), s.n * 4);
+    return out;
+}
+
+template <int D>
+std::vector<std::uint32_t> grid<D>::count_neighbors(index_space space) const {
+    auto& s = *state_;
+    s.check_built("count_neighbors");
+    std::vector<std::uint32_t> out(s.n);
+    if (s.n == 0) return out;
+    list_options o;
+    o.space = space;
+    s.ensure(s.counts, (s.n + 1) * 4, "neighbor counts");
+    const auto g = s.grid_views();
+    const std::uint32_t push[2] = {s.flags(o), 0xFFFFFFFFu};
+    s.dev->begin();
+    s.dev->dispatch(s.dev->get(detail::shader::count, D), {g[0], g[1], g[2], g[3], g[4], s.counts.view(0, s.n * 4)},
+                    push, sizeof(push), detail::groups_for(s.n, detail::group_size));
+    s.dev->submit();
+    s.dev->download(s.counts.view(0, s.n * 4), out.data(), s.n * 4);
+    return out;
+}
+
+template <int D>
+csr<float> grid<D>::neighbor_lists(const list_options& options) const {
+    auto& s = *state_;
+    s.check_built("neighbor_lists");
+    if (s.n == 0) return {};
+    s.lists_on_device(options, 0);
+    return s.download_lists(options.distances);
+}
+
+template <int D>
+csr<float> grid<D>::nearest(std::size_t k, const list_options& options) const {
+    auto& s = *state_;
+    s.check_built("nearest");
+    if (k == 0) throw error("vulkan::grid::nearest: k must be at least 1");
+    if (s.n == 0) return {};
+    s.lists_on_device(options, k);
+    return s.download_lists(options.distances);
+}
+
+template <int D>
+typename grid<D>::device_csr grid<D>::neighbor_lists_on_device(const list_options& options) {
+    auto& s = *state_;
+    s.check_built("neighbor_lists_on_device");
+    device_csr out;
+    out.rows = s.n;
+    if (s.n == 0) return out;
+    s.lists_on_device(options, 0);
+    out.pairs = s.pairs;
+    out.offsets = s.counts.view(0, (s.n + 1) * 4);
+    out.indices = s.indices.view(0, std::max<std::size_t>(s.pairs * 4, 4));
+    if (options.distances) out.distances_squared = s.dist2.view(0, std::max<std::size_t>(s.pairs * 4, 4));
+    return out;
+}
+
+template <int D>
+std::array<buffer_view, 5> grid<D>::shader_buffers() const {
+    state_->check_built("shader_buffers");
+    return state_->grid_views();
+}
+
+template class grid<2>;
+template class grid<3>;
+
+}  // namespace frnn::vulkan

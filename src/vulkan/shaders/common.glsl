@@ -1,0 +1,24 @@
+// Shared by frnn's internal shaders: one thread per element, 2D dispatches past 65535 groups.
+#ifndef FRNN_COMMON_GLSL
+#define FRNN_COMMON_GLSL
+
+#ifndef FRNN_GROUP_SIZE
+#define FRNN_GROUP_SIZE 128
+#endif
+
+// Flat index of this invocation: groups are laid out x first, then y (the host splits large
+// dispatches into rows of at most 65535 groups).
+uint frnn_thread_index() {
+    return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+
+uint frnn_group_index() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
+
+// Saturating add: sums that overflow 32 bits stick at 0xFFFFFFFF, which the host reports as
+// "too many pairs" instead of wrapping silently.
+uint frnn_sat_add(uint a, uint b) {
+    const uint s = a + b;
+    return s < a ? 0xFFFFFFFFu : s;
+}
+
+#endif

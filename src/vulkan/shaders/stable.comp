@@ -1,0 +1,34 @@
+#version 450
+// Makes the counting sort stable: inside its slot, a point's final place is the number of
+// points of that slot with a smaller original index. O(points in the slot) per point, the same
+// order of work as one query, and the sorted order no longer depends on scheduling.
+// Also copies positions and cell coordinates into cell order.
+#include "common.glsl"
+layout(local_size_x = FRNN_GROUP_SIZE) in;
+
+layout(std430, binding = 0) readonly buffer start_block { uint start[]; };
+layout(std430, binding = 1) readonly buffer slot_block { uint point_slot[]; };
+layout(std430, binding = 2) readonly buffer tmp_block { uint tmp[]; };
+layout(std430, binding = 3) readonly buffer pos_block { float pos[]; };
+layout(std430, binding = 4) readonly buffer cell_block { int point_cell[]; };
+layout(std430, binding = 5) writeonly buffer perm_block { uint perm[]; };
+layout(std430, binding = 6) writeonly buffer inverse_block { uint inverse_perm[]; };
+layout(std430, binding = 7) writeonly buffer sorted_pos_block { float sorted_pos[]; };
+layout(std430, binding = 8) writeonly buffer sorted_cell_block { int sorted_cell[]; };
+layout(push_constant) uniform push_block { uint count; } pc;
+
+void main() {
+    const uint s = frnn_thread_index();
+    if (s >= pc.count) return;
+    const uint i = tmp[s];
+    const uint slot = point_slot[i];
+    const uint b = start[slot], e = start[slot + 1u];
+    uint dst = b;
+    for (uint t = b; t < e; ++t) dst += tmp[t] < i ? 1u : 0u;
+    perm[dst] = i;
+    inverse_perm[i] = dst;
+    for (int a = 0; a < FRNN_DIM; ++a) {
+        sorted_pos[dst * FRNN_DIM + a] = pos[i * FRNN_DIM + a];
+        sorted_cell[dst * FRNN_DIM + a] = point_cell[i * FRNN_DIM + a];
+    }
+}
