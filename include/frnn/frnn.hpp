@@ -5,3 +5,5 @@
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
 #include "frnn/options.hpp"
+#include "frnn/point_sets.hpp"
+#include "frnn/verlet_lists.hpp"

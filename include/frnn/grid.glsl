@@ -94,6 +94,11 @@ uint frnn_slot_of(frnn_ivec c) {
 #endif
 }
 
+// Flat invocation index of a dispatch that frnn::vulkan::kernel split into rows of groups.
+uint frnn_invocation_index() {
+    return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+
 #ifndef FRNN_GRID_PARAMS_ONLY
 
 layout(std430, set = FRNN_SET, binding = 1) readonly buffer frnn_sorted_pos_block {

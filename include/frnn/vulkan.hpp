@@ -95,6 +95,10 @@ public:
     VkQueue queue() const;
     std::uint32_t queue_family() const;
 
+    /// Copies between the host and any storage buffer range on this device (synchronous).
+    void upload(buffer_view dst, const void* data, std::size_t bytes);
+    void download(buffer_view src, void* data, std::size_t bytes) const;
+
     detail::device& impl() const { return *impl_; }
 
 private:
