@@ -1,0 +1,158 @@
+// Test support shared by the io and cli tests: a fresh folder per test, byte files, error
+// expectations, and independent readers of npy arrays and zip archives (with their own CRC).
+#pragma once
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "frnn/error.hpp"
+#include "frnn/io/read.hpp"
+
+namespace frnn::test {
+
+/// An empty folder named after the running test.
+inline std::filesystem::path fresh_dir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
+    for (char& c : name)
+        if (c == '/') c = '_';
+    const auto dir = std::filesystem::path(::testing::TempDir()) /
+                     ("frnn_" + std::to_string(::getpid()) + "_" + name);
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+inline void write_bytes(const std::filesystem::path& file, std::string_view bytes) {
+    std::ofstream out(file, std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    ASSERT_TRUE(out.good()) << file;
+}
+
+inline std::string read_bytes(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+/// Expects f() to throw frnn::error whose message contains every part.
+template <class F>
+void expect_error(F&& f, std::initializer_list<std::string_view> parts) {
+    try {
+        f();
+        ADD_FAILURE() << "no frnn::error thrown";
+    } catch (const frnn::error& e) {
+        const std::string what = e.what();
+        for (std::string_view p : parts)
+            EXPECT_NE(what.find(p), std::string::npos) << "message '" << what << "' lacks '" << p << "'";
+    }
+}
+
+/// Appends the little-endian bytes of v.
+template <class U>
+void put(std::string& bytes, U v) {
+    char b[sizeof(U)];
+    std::memcpy(b, &v, sizeof v);
+    bytes.append(b, sizeof b);
+}
+
+/// A version-1 npy file with the given dictionary text (not validated) and raw data.
+inline std::string npy_bytes(const std::string& dict, std::string_view data) {
+    std::string header = dict;
+    while ((10 + header.size() + 1) % 64) header += ' ';
+    header += '\n';
+    std::string out = "\x93NUMPY";
+    out += char(1);
+    out += char(0);
+    put(out, std::uint16_t(header.size()));
+    return out + header + std::string(data);
+}
+
+/// An npy array as stored: header fields and values of type U (checked against descr).
+template <class U>
+std::vector<U> npy_values(std::string_view bytes, std::string_view descr,
+                          std::vector<std::uint64_t> shape) {
+    const io::npy_header h = io::parse_npy_header(bytes, "test");
+    EXPECT_EQ(h.descr, descr);
+    EXPECT_EQ(h.shape, shape);
+    EXPECT_FALSE(h.fortran_order);
+    EXPECT_EQ(h.data_offset % 64, 0u);  // numpy's alignment
+    std::vector<U> v(std::size_t(h.count()));
+    EXPECT_EQ(bytes.size() - h.data_offset, v.size() * sizeof(U));
+    if (bytes.size() - h.data_offset == v.size() * sizeof(U))
+        std::memcpy(v.data(), bytes.data() + h.data_offset, v.size() * sizeof(U));
+    return v;
+}
+
+/// Bit-by-bit CRC-32, independent of the library's table version.
+inline std::uint32_t slow_crc32(std::string_view s) {
+    std::uint32_t c = 0xffffffffu;
+    for (unsigned char b : s) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1)));
+    }
+    return ~c;
+}
+
+template <class U>
+U get(std::string_view bytes, std::size_t at) {
+    U v{};
+    if (at + sizeof(U) <= bytes.size()) std::memcpy(&v, bytes.data() + at, sizeof v);
+    return v;
+}
+
+/// Members of a stored (uncompressed) zip archive, found through its central directory;
+/// checks signatures, sizes and checksums on the way.
+inline std::map<std::string, std::string> read_zip(std::string_view zip) {
+    std::map<std::string, std::string> members;
+    EXPECT_GE(zip.size(), 22u);
+    if (zip.size() < 22) return members;
+    const std::size_t end = zip.size() - 22;  // no archive comment
+    EXPECT_EQ(get<std::uint32_t>(zip, end), 0x06054b50u);
+    const std::size_t entries = get<std::uint16_t>(zip, end + 10);
+    std::size_t at = get<std::uint32_t>(zip, end + 16);
+    EXPECT_EQ(at + get<std::uint32_t>(zip, end + 12), end);
+    for (std::size_t e = 0; e < entries && at + 46 <= zip.size(); ++e) {
+        EXPECT_EQ(get<std::uint32_t>(zip, at), 0x02014b50u);
+        EXPECT_EQ(get<std::uint16_t>(zip, at + 10), 0u);  // stored
+        const std::uint32_t crc = get<std::uint32_t>(zip, at + 16);
+        const std::uint32_t size = get<std::uint32_t>(zip, at + 24);
+        EXPECT_EQ(get<std::uint32_t>(zip, at + 20), size);
+        const std::size_t name_length = get<std::uint16_t>(zip, at + 28);
+        const std::size_t skip = name_length + get<std::uint16_t>(zip, at + 30) + get<std::uint16_t>(zip, at + 32);
+        const std::string name(zip.substr(at + 46, name_length));
+        const std::size_t local = get<std::uint32_t>(zip, at + 42);
+        EXPECT_EQ(get<std::uint32_t>(zip, local), 0x04034b50u);
+        EXPECT_EQ(get<std::uint32_t>(zip, local + 14), crc);
+        EXPECT_EQ(get<std::uint32_t>(zip, local + 22), size);
+        const std::size_t data = local + 30 + get<std::uint16_t>(zip, local + 26) + get<std::uint16_t>(zip, local + 28);
+        EXPECT_EQ(zip.substr(local + 30, name_length), name);
+        EXPECT_LE(data + size, zip.size());
+        members[name] = std::string(zip.substr(data, size));
+        EXPECT_EQ(slow_crc32(members[name]), crc) << name;
+        at += 46 + skip;
+    }
+    return members;
+}
+
+/// A Python interpreter that can import `module` ("python3" first, then the system's, which
+/// a virtual environment may hide), or "" when there is none: tests then skip.
+inline std::string python_with(const std::string& module) {
+    for (const char* python : {"python3", "/usr/bin/python3"})
+        if (std::system((std::string(python) + " -c 'import " + module + "' >/dev/null 2>&1").c_str()) == 0)
+            return python;
+    return "";
+}
+
+}  // namespace frnn::test

@@ -1,0 +1,71 @@
+// The text point reader (.csv/.txt/.xyz): separators, comments, header, and bad lines.
+#include "frnn/io/read.hpp"
+#include "io/test_files.hpp"
+
+namespace frnn::test {
+namespace {
+
+std::vector<double> coords_of(const io::point_set& p) { return std::get<std::vector<double>>(p.coords); }
+
+TEST(text_read, commas_with_header_and_comments) {
+    const io::point_set p =
+        io::parse_text_points("# made by hand\nx,y,z\n1,2,3\n\n  4.5 , -6e-1,+7 # trailing\n", "a.csv");
+    EXPECT_EQ(p.dimension, 3);
+    EXPECT_EQ(p.type(), io::precision::f64);
+    EXPECT_EQ(coords_of(p), (std::vector<double>{1, 2, 3, 4.5, -0.6, 7}));
+}
+
+TEST(text_read, white_space_two_columns_crlf_and_bom) {
+    const io::point_set p = io::parse_text_points("\xEF\xBB\xBF" "0.5\t1.5\r\n  2 3\r\n\r\n-1e3   4\r\n", "b.xyz");
+    EXPECT_EQ(p.dimension, 2);
+    EXPECT_EQ(coords_of(p), (std::vector<double>{0.5, 1.5, 2, 3, -1000, 4}));
+}
+
+TEST(text_read, no_final_newline) {
+    EXPECT_EQ(coords_of(io::parse_text_points("1 2 3\n4 5 6", "c.txt")), (std::vector<double>{1, 2, 3, 4, 5, 6}));
+}
+
+TEST(text_read, values_parse_exactly) {
+    const io::point_set p = io::parse_text_points("0.1,0.2,0.30000000000000004\n", "d.csv");
+    EXPECT_EQ(coords_of(p), (std::vector<double>{0.1, 0.2, 0.30000000000000004}));
+}
+
+TEST(text_read, empty_inputs_give_zero_points) {
+    for (const char* text : {"", "\n\n", "# only a comment\n", "x y z\n", "x,y\n# nothing\n"}) {
+        const io::point_set p = io::parse_text_points(text, "e.csv");
+        EXPECT_EQ(p.size(), 0u) << text;
+    }
+}
+
+TEST(text_read, reads_files) {
+    const auto file = fresh_dir() / "f.csv";
+    write_bytes(file, "x,y\n1,2\n3,4\n");
+    const io::point_set p = io::read_points(file);
+    EXPECT_EQ(p.size(), 2u);
+    EXPECT_EQ(p.dimension, 2);
+}
+
+void expect_bad(std::string_view text, std::initializer_list<std::string_view> parts) {
+    expect_error([&] { io::parse_text_points(text, "pts.csv"); }, parts);
+    expect_error([&] { io::parse_text_points(text, "pts.csv"); }, {"pts.csv: "});
+}
+
+TEST(text_read, one_column) { expect_bad("# c\n1\n2\n", {"line 2", "1 columns", "2 (x y) or 3 (x y z)"}); }
+TEST(text_read, four_columns) { expect_bad("1,2,3,4\n", {"line 1", "4 columns"}); }
+TEST(text_read, column_count_changes) { expect_bad("1 2 3\n4 5 6\n\n7 8\n", {"line 4", "2 columns, but line 1 has 3"}); }
+TEST(text_read, bad_number_names_line_and_field) {
+    expect_bad("x,y,z\n1,2,3\n4,5o,6\n", {"line 3", "field 2 '5o' is not a number"});
+}
+TEST(text_read, typo_in_first_line_is_not_a_header) { expect_bad("1.0,2.o,3\n4,5,6\n", {"line 1", "'2.o'"}); }
+TEST(text_read, second_header_is_an_error) { expect_bad("x y\n1 2\nx y\n", {"line 3", "'x' is not a number"}); }
+TEST(text_read, empty_field) { expect_bad("1,,3\n", {"line 1", "empty field 2"}); }
+TEST(text_read, mixed_separators) { expect_bad("1 2,3\n", {"line 1", "'1 2'"}); }
+TEST(text_read, out_of_range_number) { expect_bad("1 1e999 3\n", {"line 1", "'1e999'"}); }
+TEST(text_read, nan_names_point_and_line) { expect_bad("1 2\n3 4\n# x\nnan 5\n", {"line 4", "point 2", "non-finite"}); }
+TEST(text_read, infinity_names_point) { expect_bad("1,2,-inf\n", {"line 1", "point 0", "non-finite"}); }
+TEST(text_read, missing_file) {
+    expect_error([] { io::read_points("/nonexistent/frnn/p.csv"); }, {"/nonexistent/frnn/p.csv", "cannot open"});
+}
+
+}  // namespace
+}  // namespace frnn::test

@@ -1,0 +1,232 @@
+// The writers: generic npy arrays, pairs as npy and csv, CSR lists as npz (read back by an
+// independent zip reader, and by Python when available), and the all-or-nothing output file.
+#include <charconv>
+#include <cstdlib>
+
+#include "crc32.hpp"
+#include "frnn/brute_force.hpp"
+#include "frnn/io/write.hpp"
+#include "io/test_files.hpp"
+#include "output_file.hpp"
+
+namespace frnn::test {
+namespace {
+
+// Neighbor lists of a small random set, from the brute-force oracle (full, sorted by index).
+template <class T>
+csr<T> sample_lists(bool self = false) {
+    std::vector<T> xyz;
+    std::uint32_t state = 12345;
+    for (int k = 0; k < 3 * 40; ++k) {
+        state = state * 1664525u + 1013904223u;
+        xyz.push_back(T(state >> 8) / T(1 << 24) * 3);
+    }
+    csr<T> lists = brute_force_lists<T, 3>(xyz, xyz, T(0.8), !self);
+    EXPECT_GT(lists.size(), 40u);
+    return lists;
+}
+
+template <class T>
+std::vector<std::int64_t> expected_pairs(const csr<T>& lists, bool upper) {
+    std::vector<std::int64_t> pairs;
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        for (std::uint32_t j : lists.row(i))
+            if (!upper || j >= i) {
+                pairs.push_back(std::int64_t(i));
+                pairs.push_back(j);
+            }
+    return pairs;
+}
+
+template <class U>
+void npy_round_trip(std::string_view descr) {
+    const auto dir = fresh_dir();
+    const std::vector<U> v = {U(1), U(2), U(3), U(4), U(5), U(7)};
+    const std::uint64_t shape[2] = {3, 2};
+    io::write_npy<U>(dir / "a.npy", v, shape);
+    EXPECT_EQ(npy_values<U>(read_bytes(dir / "a.npy"), descr, {3, 2}), v);
+    io::write_npy<U>(dir / "b.npy", v);
+    EXPECT_EQ(npy_values<U>(read_bytes(dir / "b.npy"), descr, {6}), v);
+}
+
+TEST(npy_write, float32) { npy_round_trip<float>("<f4"); }
+TEST(npy_write, float64) { npy_round_trip<double>("<f8"); }
+TEST(npy_write, int32) { npy_round_trip<std::int32_t>("<i4"); }
+TEST(npy_write, int64) { npy_round_trip<std::int64_t>("<i8"); }
+TEST(npy_write, uint32) { npy_round_trip<std::uint32_t>("<u4"); }
+TEST(npy_write, uint64) { npy_round_trip<std::uint64_t>("<u8"); }
+
+TEST(npy_write, empty_array) {
+    const auto file = fresh_dir() / "e.npy";
+    io::write_npy<double>(file, std::span<const double>{});
+    EXPECT_TRUE(npy_values<double>(read_bytes(file), "<f8", {0}).empty());
+}
+
+TEST(npy_write, shape_mismatch_is_an_error_and_writes_nothing) {
+    const auto dir = fresh_dir();
+    const std::vector<double> v(5);
+    const std::uint64_t shape[2] = {2, 3};
+    expect_error([&] { io::write_npy<double>(dir / "x.npy", v, shape); }, {"x.npy", "shape holds 6 values"});
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(pairs_write, npy_upper_and_all) {
+    const auto dir = fresh_dir();
+    for (bool self : {false, true}) {
+        const csr<double> lists = sample_lists<double>(self);
+        for (bool upper : {true, false}) {
+            const auto filter = upper ? io::pair_filter::upper : io::pair_filter::all;
+            const auto expected = expected_pairs(lists, upper);
+            EXPECT_EQ(io::count_pairs(lists, filter), expected.size() / 2);
+            io::write_neighbors(dir / "p.npy", lists, filter);
+            EXPECT_EQ(npy_values<std::int64_t>(read_bytes(dir / "p.npy"), "<i8", {expected.size() / 2, 2}), expected);
+        }
+    }
+}
+
+template <class T>
+void csv_round_trip() {
+    const auto file = fresh_dir() / "p.csv";
+    const csr<T> lists = sample_lists<T>();
+    io::write_neighbors(file, lists, io::pair_filter::upper);
+    const std::string text = read_bytes(file);
+    ASSERT_EQ(text.substr(0, 13), "i,j,distance\n");
+    std::size_t pos = 13, lines = 0;
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
+            if (lists.indices[k] < i) continue;
+            const std::size_t eol = text.find('\n', pos);
+            ASSERT_NE(eol, std::string::npos);
+            const std::string line = text.substr(pos, eol - pos);
+            pos = eol + 1;
+            ++lines;
+            std::size_t a = 0, b = 0;
+            T d = 0;
+            const char* p = line.data();
+            const char* end = line.data() + line.size();
+            p = std::from_chars(p, end, a).ptr;
+            ASSERT_EQ(*p++, ',') << line;
+            p = std::from_chars(p, end, b).ptr;
+            ASSERT_EQ(*p++, ',') << line;
+            ASSERT_EQ(std::from_chars(p, end, d).ptr, end) << line;
+            EXPECT_EQ(a, i);
+            EXPECT_EQ(b, lists.indices[k]);
+            EXPECT_EQ(d, lists.distances[k]);  // shortest round-trip text: exact
+        }
+    EXPECT_EQ(pos, text.size());
+    EXPECT_EQ(lines, io::count_pairs(lists, io::pair_filter::upper));
+}
+
+TEST(pairs_write, csv_float_round_trips_exactly) { csv_round_trip<float>(); }
+TEST(pairs_write, csv_double_round_trips_exactly) { csv_round_trip<double>(); }
+
+TEST(pairs_write, csv_and_npz_need_distances) {
+    const auto dir = fresh_dir();
+    csr<double> lists = sample_lists<double>();
+    lists.distances.clear();
+    expect_error([&] { io::write_neighbors(dir / "p.csv", lists, io::pair_filter::all); }, {"p.csv", "distances"});
+    expect_error([&] { io::write_neighbors(dir / "p.npz", lists, io::pair_filter::all); }, {"p.npz", "distances"});
+    expect_error([&] { io::write_neighbors(dir / "p.txt", lists, io::pair_filter::all); }, {"p.txt", "unknown output"});
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+template <class T>
+void npz_round_trip() {
+    const auto file = fresh_dir() / "lists.npz";
+    const csr<T> lists = sample_lists<T>(true);
+    io::write_csr_npz(file, lists);
+    const auto members = read_zip(read_bytes(file));
+    ASSERT_EQ(members.size(), 3u);
+    const std::uint64_t n = lists.rows(), m = lists.size();
+    const auto offsets = npy_values<std::int64_t>(members.at("offsets.npy"), "<i8", {n + 1});
+    const auto indices = npy_values<std::int64_t>(members.at("indices.npy"), "<i8", {m});
+    const auto distances = npy_values<double>(members.at("distances.npy"), "<f8", {m});
+    EXPECT_TRUE(std::equal(offsets.begin(), offsets.end(), lists.offsets.begin(), lists.offsets.end()));
+    EXPECT_TRUE(std::equal(indices.begin(), indices.end(), lists.indices.begin(), lists.indices.end()));
+    for (std::size_t k = 0; k < m; ++k) EXPECT_EQ(distances[k], double(lists.distances[k]));
+}
+
+TEST(npz_write, float_lists_read_back) { npz_round_trip<float>(); }
+TEST(npz_write, double_lists_read_back) { npz_round_trip<double>(); }
+
+TEST(npz_write, empty_lists) {
+    const auto file = fresh_dir() / "empty.npz";
+    io::write_csr_npz(file, csr<double>{});
+    const auto members = read_zip(read_bytes(file));
+    ASSERT_EQ(members.size(), 3u);
+    EXPECT_EQ(npy_values<std::int64_t>(members.at("offsets.npy"), "<i8", {1}), std::vector<std::int64_t>{0});
+    EXPECT_TRUE(npy_values<std::int64_t>(members.at("indices.npy"), "<i8", {0}).empty());
+}
+
+TEST(npz_write, python_zipfile_accepts_the_archive) {
+    const std::string python = python_with("zipfile");
+    if (python.empty()) GTEST_SKIP() << "python3 not available";
+    const auto file = fresh_dir() / "lists.npz";
+    io::write_csr_npz(file, sample_lists<double>());
+    const std::string check = python + " -c \"import zipfile,sys; z=zipfile.ZipFile(sys.argv[1]); "
+                              "assert z.testzip() is None; "
+                              "assert sorted(z.namelist())==['distances.npy','indices.npy','offsets.npy']\" '" +
+                              file.string() + "'";
+    EXPECT_EQ(std::system(check.c_str()), 0);
+}
+
+TEST(npz_write, numpy_loads_the_archive) {
+    const std::string python = python_with("numpy");
+    if (python.empty()) GTEST_SKIP() << "python3 with numpy not available";
+    const auto dir = fresh_dir();
+    const csr<double> lists = sample_lists<double>();
+    io::write_csr_npz(dir / "lists.npz", lists);
+    // numpy rebuilds the full pair list, which must match the C++ lists written as npy.
+    io::write_neighbors(dir / "pairs.npy", lists, io::pair_filter::all);
+    const std::string check =
+        python + " -c \"import numpy as np,sys; z=np.load(sys.argv[1]); p=np.load(sys.argv[2]); "
+        "o,i,d=z['offsets'],z['indices'],z['distances']; "
+        "assert o.dtype==np.int64 and i.dtype==np.int64 and d.dtype==np.float64; "
+        "rows=np.repeat(np.arange(len(o)-1),np.diff(o)); "
+        "assert (np.stack([rows,i],1)==p).all()\" '" +
+        (dir / "lists.npz").string() + "' '" + (dir / "pairs.npy").string() + "'";
+    EXPECT_EQ(std::system(check.c_str()), 0);
+}
+
+TEST(crc32, standard_check_value) {
+    const std::string s = "123456789";
+    EXPECT_EQ(io::detail::crc32_update(0, s.data(), s.size()), 0xCBF43926u);
+    // Continuing over pieces equals one pass.
+    EXPECT_EQ(io::detail::crc32_update(io::detail::crc32_update(0, s.data(), 4), s.data() + 4, 5), 0xCBF43926u);
+    EXPECT_EQ(io::detail::crc32_update(0, s.data(), s.size()), slow_crc32(s));
+}
+
+TEST(output_file, commit_renames_and_abandon_leaves_nothing) {
+    const auto dir = fresh_dir();
+    const auto target = dir / "out.bin";
+    {
+        io::detail::output_file out(target);
+        out.write("partial");
+        EXPECT_FALSE(std::filesystem::exists(target));
+    }  // destroyed without commit, as after an exception
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+
+    write_bytes(target, "old");
+    {
+        io::detail::output_file out(target);
+        out.write("new data");
+    }
+    EXPECT_EQ(read_bytes(target), "old");  // a failed write keeps the previous file
+    {
+        io::detail::output_file out(target);
+        out.write("new data");
+        out.patch(0, "N", 1);
+        out.write("!");
+        out.commit();
+    }
+    EXPECT_EQ(read_bytes(target), "New data!");
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+}
+
+TEST(output_file, missing_folder_names_the_target) {
+    expect_error([] { io::detail::output_file out("/nonexistent/frnn/out.npy"); },
+                 {"/nonexistent/frnn/out.npy", "cannot create"});
+}
+
+}  // namespace
+}  // namespace frnn::test
