@@ -322,7 +322,9 @@ double grid_object::cell_size() const {
 }
 py::object grid_object::periodic() const {
     if (options_.periodic.empty()) return py::none();
-    return py::tuple(py::cast(options_.periodic));
+    py::tuple out(options_.periodic.size());
+    for (std::size_t a = 0; a < options_.periodic.size(); ++a) out[a] = options_.periodic[a];
+    return out;
 }
 int grid_object::threads() const {
     std::shared_lock lock(mutex_);

@@ -197,7 +197,7 @@ PYBIND11_MODULE(_frnn, m) {
                                "Cells (uniform grid) or hash-table slots (hashed grid)")
         .def_property_readonly("nonempty_cells", &grid_object::nonempty_cells,
                                "Cells holding at least one point")
-        .def_property_readonly("cell_size", &grid_object::cell_size, "Cell edge length")
+        .def_property_readonly("cell_size", &grid_object::cell_size, "Cell edge length in use (the grid may round the requested one up to fit the domain)")
         .def_property_readonly("periodic", &grid_object::periodic,
                                "Box lengths per axis, or None for open boundaries")
         .def_property_readonly("threads", &grid_object::threads, "Worker threads used")
