@@ -1,0 +1,251 @@
+// `frnn query` end to end: its output files against the brute-force oracle, for every input
+// format, output format and option.
+#include <nlohmann/json.hpp>
+
+#include "cli/run_tool.hpp"
+
+namespace frnn::test {
+namespace {
+
+constexpr double radius = 1.0;
+
+// Runs the tool on `input` and checks out.npy against brute force over `xyz` (i < j pairs).
+template <class T, int D>
+void expect_half_pairs(const std::filesystem::path& dir, const std::string& input, const std::vector<T>& xyz,
+                       const std::string& options = "") {
+    const tool_result r = run_tool(dir, "query " + input + " --radius 1 -o out.npy " + options);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto expected = pairs_of(brute_force_lists<T, D>(xyz, xyz, T(radius), true), true);
+    ASSERT_GT(expected.size(), 100u);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected) << input << " " << options;
+    EXPECT_NE(r.out.find("pairs      " + std::to_string(expected.size() / 2)), std::string::npos) << r.out;
+}
+
+TEST(cli_query, every_input_format_double) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(300, 5.0, 1);
+    for (const char* name : {"p.npy", "p.csv", "p.txt", "p.xyz", "p.ply"}) {
+        write_points<double, 3>(dir / name, xyz);
+        expect_half_pairs<double, 3>(dir, name, xyz);
+    }
+    write_points<double, 3>(dir / "b.ply", xyz, true);
+    expect_half_pairs<double, 3>(dir, "b.ply", xyz);
+}
+
+TEST(cli_query, float_inputs_search_in_float) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<float, 3>(300, 5.0, 2);
+    write_points<float, 3>(dir / "p.npy", xyz);
+    expect_half_pairs<float, 3>(dir, "p.npy", xyz);
+    write_points<float, 3>(dir / "p.ply", xyz, true);
+    expect_half_pairs<float, 3>(dir, "p.ply", xyz);
+    const auto j = nlohmann::json::parse(run_tool(dir, "query p.ply -r 1 --json").out);
+    EXPECT_EQ(j["precision"], "float");
+}
+
+TEST(cli_query, two_dimensional) {
+    const auto dir = fresh_dir();
+    const auto xy = random_points<double, 2>(300, 10.0, 3);
+    write_points<double, 2>(dir / "p.csv", xy);
+    expect_half_pairs<double, 2>(dir, "p.csv", xy);
+}
+
+TEST(cli_query, grid_kinds_cell_sizes_and_threads_agree) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(400, 6.0, 4);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    std::string first;
+    for (const char* options : {"--grid uniform", "--grid hash", "--grid auto --cell-size 0.5",
+                                "--grid hash --cell-size 0.34", "--threads 1", "--threads 2", "--threads 4"}) {
+        expect_half_pairs<double, 3>(dir, "p.npy", xyz, options);
+        const std::string bytes = read_bytes(dir / "out.npy");
+        if (first.empty()) first = bytes;
+        EXPECT_EQ(bytes, first) << options;  // bit-identical files
+    }
+}
+
+TEST(cli_query, self_pairs) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(200, 4.0, 5);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    ASSERT_EQ(run_tool(dir, "query p.npy -r 1 --self -o out.npy").code, 0);
+    const auto expected = pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, false), true);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected);
+}
+
+TEST(cli_query, csv_output_has_distances_in_input_precision) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<float, 3>(200, 4.0, 6);
+    write_points<float, 3>(dir / "p.npy", xyz);
+    ASSERT_EQ(run_tool(dir, "query p.npy -r 1 -o out.csv").code, 0);
+    const csr<float> lists = brute_force_lists<float, 3>(xyz, xyz, 1.0f, true);
+    const std::string text = read_bytes(dir / "out.csv");
+    ASSERT_EQ(text.substr(0, 13), "i,j,distance\n");
+    std::size_t pos = 13, count = 0;
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
+            if (lists.indices[k] < i) continue;
+            const std::size_t eol = text.find('\n', pos);
+            ASSERT_NE(eol, std::string::npos);
+            std::size_t a = 0, b = 0;
+            float d = 0;
+            const char* p = text.data() + pos;
+            p = std::from_chars(p, text.data() + eol, a).ptr + 1;
+            p = std::from_chars(p, text.data() + eol, b).ptr + 1;
+            ASSERT_EQ(std::from_chars(p, text.data() + eol, d).ptr, text.data() + eol);
+            EXPECT_EQ(a, i);
+            EXPECT_EQ(b, lists.indices[k]);
+            EXPECT_NEAR(d, lists.distances[k], 1e-6f);  // float arithmetic, not double
+            pos = eol + 1;
+            ++count;
+        }
+    EXPECT_EQ(pos, text.size());
+    EXPECT_GT(count, 100u);
+}
+
+TEST(cli_query, npz_holds_full_sorted_lists) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(250, 4.0, 7);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    ASSERT_EQ(run_tool(dir, "query p.npy -r 1 -o out.npz").code, 0);
+    const csr<double> lists = brute_force_lists<double, 3>(xyz, xyz, 1.0, true);
+    const auto members = read_zip(read_bytes(dir / "out.npz"));
+    ASSERT_EQ(members.size(), 3u);
+    const auto offsets = npy_values<std::int64_t>(members.at("offsets.npy"), "<i8", {251});
+    const auto indices = npy_values<std::int64_t>(members.at("indices.npy"), "<i8", {lists.size()});
+    const auto distances = npy_values<double>(members.at("distances.npy"), "<f8", {lists.size()});
+    EXPECT_TRUE(std::equal(offsets.begin(), offsets.end(), lists.offsets.begin(), lists.offsets.end()));
+    EXPECT_TRUE(std::equal(indices.begin(), indices.end(), lists.indices.begin(), lists.indices.end()));
+    for (std::size_t k = 0; k < lists.size(); ++k) EXPECT_NEAR(distances[k], lists.distances[k], 1e-12);
+}
+
+TEST(cli_query, queries_from_another_file) {
+    const auto dir = fresh_dir();
+    const auto data = random_points<double, 3>(300, 5.0, 8);
+    const auto queries = random_points<double, 3>(60, 5.0, 9);
+    write_points<double, 3>(dir / "data.npy", data);
+    write_points<double, 3>(dir / "q.csv", queries);
+    const tool_result r = run_tool(dir, "query data.npy --queries q.csv -r 1 -o out.npy --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto expected = pairs_of(brute_force_lists<double, 3>(queries, data, 1.0, false), false);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected);
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["query_points"], 60);
+    EXPECT_EQ(j["pairs"], expected.size() / 2);
+}
+
+TEST(cli_query, float_data_with_double_queries_searches_in_float) {
+    const auto dir = fresh_dir();
+    const auto data = random_points<float, 2>(300, 8.0, 10);
+    const auto queries = random_points<double, 2>(50, 8.0, 11);
+    write_points<float, 2>(dir / "data.npy", data);
+    write_points<double, 2>(dir / "q.npy", queries);
+    ASSERT_EQ(run_tool(dir, "query data.npy --queries q.npy -r 1 -o out.npy").code, 0);
+    const std::vector<float> qf(queries.begin(), queries.end());
+    const auto expected = pairs_of(brute_force_lists<float, 2>(qf, data, 1.0f, false), false);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected);
+}
+
+TEST(cli_query, knn_keeps_the_nearest_listed_by_index) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(300, 4.0, 12);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    for (bool self : {false, true}) {
+        ASSERT_EQ(run_tool(dir, std::string("query p.npy -r 1 --knn 4 -o out.npy") + (self ? " --self" : "")).code, 0);
+        const auto expected = pairs_of(keep_nearest(brute_force_lists<double, 3>(xyz, xyz, 1.0, !self), 4), false);
+        EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected) << self;
+    }
+    const auto queries = random_points<double, 3>(40, 4.0, 13);
+    write_points<double, 3>(dir / "q.npy", queries);
+    ASSERT_EQ(run_tool(dir, "query p.npy --queries q.npy -r 1 --knn 3 -o out.npy").code, 0);
+    const auto expected = pairs_of(keep_nearest(brute_force_lists<double, 3>(queries, xyz, 1.0, false), 3), false);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected);
+}
+
+TEST(cli_query, periodic_box) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(300, 5.0, 14);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    ASSERT_EQ(run_tool(dir, "query p.npy -r 1 --periodic 5,5,5 -o out.npy").code, 0);
+    const double box[3] = {5, 5, 5};
+    const auto expected = pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, true, box), true);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected);
+    // The box adds pairs across the faces.
+    EXPECT_GT(expected.size(), pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, true), true).size());
+}
+
+TEST(cli_query, empty_input_gives_no_pairs) {
+    const auto dir = fresh_dir();
+    write_bytes(dir / "e.csv", "x,y,z\n");
+    const tool_result r = run_tool(dir, "query e.csv -r 1 -o out.npy --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(read_pairs(dir / "out.npy", 0).empty());
+    EXPECT_EQ(nlohmann::json::parse(r.out)["pairs"], 0);
+}
+
+TEST(cli_query, json_summary_parses_and_agrees) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(300, 5.0, 15);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    const tool_result r = run_tool(dir, "query p.npy -r 1 --json --grid hash");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);  // throws (fails the test) when not one JSON object
+    const csr<double> full = brute_force_lists<double, 3>(xyz, xyz, 1.0, true);
+    std::size_t max_row = 0;
+    for (std::size_t i = 0; i < full.rows(); ++i) max_row = std::max(max_row, full.row(i).size());
+    EXPECT_EQ(j["points"], 300);
+    EXPECT_EQ(j["dimension"], 3);
+    EXPECT_EQ(j["precision"], "double");
+    EXPECT_EQ(j["pairs"], full.size() / 2);
+    EXPECT_DOUBLE_EQ(j["mean_neighbors"].get<double>(), double(full.size()) / 300);
+    EXPECT_EQ(j["max_neighbors"], max_row);
+    EXPECT_EQ(j["grid"], "hash");
+    EXPECT_GE(j["cells"].get<std::size_t>(), j["nonempty_cells"].get<std::size_t>());
+    EXPECT_GT(j["nonempty_cells"].get<std::size_t>(), 0u);
+    for (const char* stage : {"read", "build", "query", "write"}) EXPECT_GE(j["time_ms"][stage].get<double>(), 0.0);
+}
+
+// BENCHMARKS.md workloads W1 (lattice) and W2 (uniform), rebuilt here from their definition.
+std::vector<double> workload(const std::string& kind, std::size_t n, int dim, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::vector<double> xyz;
+    if (kind == "lattice") {
+        std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+        for (std::size_t k = 0; k < (dim == 3 ? n : 1); ++k)
+            for (std::size_t j = 0; j < n; ++j)
+                for (std::size_t i = 0; i < n; ++i) {
+                    const double c[3] = {double(i), double(j), double(k)};
+                    for (int a = 0; a < dim; ++a) xyz.push_back(c[a] + jitter(rng));
+                }
+    } else {
+        std::uniform_real_distribution<double> u(0, std::pow(double(n), 1.0 / dim));
+        for (std::size_t k = 0; k < n * std::size_t(dim); ++k) xyz.push_back(u(rng));
+    }
+    return xyz;
+}
+
+TEST(cli_query, generated_point_sets) {
+    const auto dir = fresh_dir();
+    struct run {
+        const char* spec;
+        const char* kind;
+        std::size_t n;
+        int dim;
+        std::uint64_t seed;
+    };
+    for (const run& g : {run{"lattice:7", "lattice", 7, 3, 42}, run{"lattice:12 --dim 2 --seed 3", "lattice", 12, 2, 3},
+                         run{"uniform:500", "uniform", 500, 3, 42}}) {
+        const tool_result r = run_tool(dir, std::string("query --generate ") + g.spec + " --radius 2 -o out.npy --json");
+        ASSERT_EQ(r.code, 0) << r.err;
+        const auto xyz = workload(g.kind, g.n, g.dim, g.seed);
+        const auto expected = g.dim == 3 ? pairs_of(brute_force_lists<double, 3>(xyz, xyz, 2.0, true), true)
+                                         : pairs_of(brute_force_lists<double, 2>(xyz, xyz, 2.0, true), true);
+        EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected) << g.spec;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["points"], xyz.size() / std::size_t(g.dim));
+        EXPECT_EQ(j["input"], std::string(g.spec).substr(0, std::string(g.spec).find(' ')));
+    }
+}
+
+}  // namespace
+}  // namespace frnn::test
