@@ -1,0 +1,75 @@
+// Neighbor counts and CSR lists assembled from a per-row visitor, for the baselines.
+// Rows are split into one contiguous block per thread; each block fills its own buffer and the
+// buffers are joined in row order, so the output is identical for any thread count.
+// O(N + pairs) beyond the visits; memory: the lists twice at the peak (buffers + result).
+// Include only from files compiled with OpenMP; `visit` must be safe to call concurrently.
+#pragma once
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <vector>
+
+#include "frnn/csr.hpp"
+
+namespace frnn::bench::detail {
+
+// Runs body(block, first_row, end_row) for `threads` contiguous blocks of [0, n) in parallel;
+// an exception thrown in a block is rethrown here (never let one escape an OpenMP region).
+template <class Body>
+void for_row_blocks(std::size_t n, int threads, Body&& body) {
+    threads = std::max(1, threads);
+    std::exception_ptr failure;
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+    for (int b = 0; b < threads; ++b) {
+        try {
+            body(b, n * std::size_t(b) / std::size_t(threads),
+                 n * std::size_t(b + 1) / std::size_t(threads));
+        } catch (...) {
+#pragma omp critical(frnn_bench_failure)
+            failure = std::current_exception();
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
+}
+
+/// counts[i] = number of j passed by visit(i, emit) calling emit(j).
+template <class Visit>
+std::vector<std::uint32_t> counts_from_rows(std::size_t n, int threads, Visit&& visit) {
+    std::vector<std::uint32_t> counts(n, 0);
+    for_row_blocks(n, threads, [&](int, std::size_t lo, std::size_t hi) {
+        for (std::size_t i = lo; i < hi; ++i) {
+            std::uint32_t c = 0;
+            visit(i, [&c](std::uint32_t) { ++c; });
+            counts[i] = c;
+        }
+    });
+    return counts;
+}
+
+/// Row i of the result holds the j that visit(i, emit) passes to emit, in that order.
+template <class T, class Visit>
+csr<T> lists_from_rows(std::size_t n, int threads, Visit&& visit) {
+    threads = std::max(1, threads);
+    csr<T> out;
+    out.offsets.assign(n + 1, 0);
+    std::vector<std::vector<std::uint32_t>> parts(static_cast<std::size_t>(threads));
+    for_row_blocks(n, threads, [&](int b, std::size_t lo, std::size_t hi) {
+        auto& part = parts[std::size_t(b)];
+        for (std::size_t i = lo; i < hi; ++i) {
+            const std::size_t before = part.size();
+            visit(i, [&part](std::uint32_t j) { part.push_back(j); });
+            out.offsets[i + 1] = part.size() - before;
+        }
+    });
+    for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
+    out.indices.resize(out.offsets[n]);
+    for_row_blocks(n, threads, [&](int b, std::size_t lo, std::size_t) {
+        auto& part = parts[std::size_t(b)];
+        std::copy(part.begin(), part.end(), out.indices.begin() + std::ptrdiff_t(out.offsets[lo]));
+        part = {};
+    });
+    return out;
+}
+
+}  // namespace frnn::bench::detail

@@ -1,0 +1,52 @@
+// The workloads of BENCHMARKS.md (W1..W5), generated in process from std::mt19937_64 seeded
+// with 42, drawing x, then y, then z of each point in order. O(N) time and memory.
+//
+// The mapping from the generator's 64-bit words to numbers is fixed here (not left to the
+// standard library's distributions, which differ between implementations), so the same size
+// gives the same points everywhere:
+//   uniform(a, b) = a + (b - a) * (word >> 11) * 2^-53        (one word)
+//   normal(0, 1)  = sqrt(-2 ln(1 - u1)) * cos(2 pi u2)         (two words, Box-Muller)
+// Thread-safe: the functions share no state.
+#pragma once
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace frnn::bench {
+
+struct workload {
+    std::string id;                    ///< "W1" .. "W5"
+    std::string name;                  ///< "lattice", "uniform", ...
+    int dim;                           ///< 2 or 3
+    double radius;                     ///< search radius of the workload
+    std::vector<std::size_t> sizes;    ///< default sizes (see `size_meaning`)
+    std::string size_meaning;          ///< what --n sets: "lattice side" or "points"
+};
+
+/// W1..W5 in order.
+const std::vector<workload>& all_workloads();
+/// The workload with this id (case-insensitive); throws frnn::error for an unknown id.
+const workload& find_workload(std::string_view id);
+/// "all", one id, or a comma list ("W1,W2"); ids returned upper-case, in the order given.
+std::vector<std::string> parse_workload_list(std::string_view text);
+
+/// Number of points of `w` at `size` (n^3 for W1, n^2 for W4, n^3 + 1 for W5, size for W2/W3).
+/// Throws frnn::error when it is 0 or does not fit 32-bit indices.
+std::size_t point_count(const workload& w, std::size_t size);
+
+/// The points of `w` at `size`: point_count * dim interleaved coordinates (x0 y0 [z0] x1 ...).
+template <class T>
+std::vector<T> generate(const workload& w, std::size_t size);
+
+/// Seed of the workloads (BENCHMARKS.md) and of the "update" motion drawn after them.
+inline constexpr unsigned long long workload_seed = 42;
+inline constexpr unsigned long long motion_seed = 43;
+
+/// A copy of `coords` with every coordinate moved by uniform(-0.05, 0.05), drawn from
+/// std::mt19937_64(motion_seed) in coordinate order: the next step of the "update" phase.
+template <class T>
+std::vector<T> moved_copy(std::span<const T> coords);
+
+}  // namespace frnn::bench

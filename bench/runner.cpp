@@ -1,0 +1,254 @@
+#include "frnn/bench/runner.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <optional>
+#include <span>
+#include <thread>
+
+#include "frnn/bench/brute_baseline.hpp"
+#include "frnn/bench/cell_list.hpp"
+#include "frnn/bench/measure.hpp"
+#include "frnn/bench/nanoflann_baseline.hpp"
+#include "frnn/bench/workloads.hpp"
+#include "frnn/error.hpp"
+#include "frnn/grid.hpp"
+
+namespace frnn::bench {
+namespace {
+
+constexpr double mib = 1024.0 * 1024.0;
+
+std::uint64_t total(const std::vector<std::uint32_t>& counts) {
+    return std::accumulate(counts.begin(), counts.end(), std::uint64_t(0));
+}
+
+// One workload at one size, with its points: records rows, memory and notes into the report.
+template <class T, int D>
+class case_runner {
+public:
+    case_runner(const config& cfg, const workload& w, std::size_t size, report& rep)
+        : cfg_(cfg), rep_(rep), coords_(generate<T>(w, size)), radius_(T(w.radius)) {
+        info_.workload = w.id;
+        info_.name = w.name;
+        info_.size = size;
+        info_.size_meaning = w.size_meaning;
+        info_.n = coords_.size() / D;
+        info_.dim = D;
+        info_.radius = w.radius;
+    }
+
+    void run() {
+        for (int t : cfg_.threads) run_frnn(t);
+        if (cfg_.baselines) {
+            for (int t : cfg_.threads) run_nanoflann(t);
+            run_cell_list();
+            run_brute();
+        }
+        for (auto& text : disagreements(rep_.rows, info_.workload, info_.n)) void_note(text);
+        rep_.cases.push_back(std::move(info_));
+    }
+
+private:
+    std::span<const T> points() const { return coords_; }
+    std::size_t n() const { return info_.n; }
+
+    void say(const std::string& text) const {
+        if (cfg_.progress) *cfg_.progress << "bench: " << text << std::endl;
+    }
+    void void_note(const std::string& text) {
+        if (cfg_.progress)
+            *cfg_.progress << "\n!!!!!!!! " << text << " !!!!!!!!\n" << std::endl;
+        info_.voids.push_back(text);
+    }
+    void step(const std::string& method, int threads) {
+        say(info_.workload + " " + info_.name + " N=" + std::to_string(n()) + ": " + method + ", " +
+            std::to_string(threads) + (threads == 1 ? " thread" : " threads"));
+        rep_.rss_per_method = reset_peak_rss() && rep_.rss_per_method;
+    }
+    void add(int threads, const std::string& method, const std::string& phase,
+             const measurement& m) {
+        rep_.rows.push_back({info_.workload, n(), threads, method, phase, m.median_ms,
+                             m.median_ms * 1e6 / double(n()), m.pairs});
+        if (!m.pairs_agree)
+            void_note("VOID " + info_.workload + " n=" + std::to_string(n()) + ": " + method + "/" +
+                      phase + "/t" + std::to_string(threads) +
+                      " found different pair counts in its repetitions");
+    }
+    void add_memory(int threads, const std::string& method, std::size_t structure_bytes) {
+        rep_.memory.push_back({info_.workload, n(), threads, method,
+                               double(structure_bytes) / double(n()),
+                               double(peak_rss_bytes()) / mib});
+    }
+
+    // build, count, list and build+list of one method, plus its memory: make() builds the
+    // structure, counts(s) and lists(s) query it. Results are dropped outside the timing.
+    template <class Make, class Counts, class Lists>
+    void run_method(int threads, const std::string& method, Make make, Counts counts, Lists lists) {
+        const int r = cfg_.repeat;
+        add(threads, method, "build", measure(r, [&] {
+                stopwatch sw;
+                sw.start();
+                const auto structure = make();
+                return sample{sw.stop(), {}};
+            }));
+        std::size_t structure_bytes = 0;
+        {
+            const auto structure = make();
+            structure_bytes = structure.memory_bytes();
+            add(threads, method, "count", measure(r, [&] {
+                    stopwatch sw;
+                    sw.start();
+                    const auto c = counts(structure);
+                    const double ms = sw.stop();
+                    return sample{ms, total(c)};
+                }));
+            add(threads, method, "list", measure(r, [&] {
+                    stopwatch sw;
+                    sw.start();
+                    const auto l = lists(structure);
+                    return sample{sw.stop(), l.size()};
+                }));
+        }
+        add(threads, method, "build+list", measure(r, [&] {
+                stopwatch sw;
+                sw.start();
+                const auto structure = make();
+                const auto l = lists(structure);
+                return sample{sw.stop(), l.size()};
+            }));
+        add_memory(threads, method, structure_bytes);
+    }
+
+    void run_frnn(int threads) {
+        step("frnn", threads);
+        grid_options go;
+        go.kind = cfg_.kind;
+        go.cell_size = cfg_.cell_factor * double(radius_);
+        go.threads = threads;
+        list_options lo;
+        lo.space = cfg_.space;
+        run_method(
+            threads, "frnn", [&] { return grid<T, D>(points(), radius_, go); },
+            [&](const grid<T, D>& g) { return g.count_neighbors(lo.space); },
+            [&](const grid<T, D>& g) { return g.neighbor_lists(lo); });
+
+        // The next step: every point moved a little; the moved copy is made outside the timing.
+        const std::vector<T> moved = moved_copy<T>(points());
+        add(threads, "frnn", "update", measure(cfg_.repeat, [&] {
+                grid<T, D> g(points(), radius_, go);
+                stopwatch sw;
+                sw.start();
+                g.rebuild(moved);
+                return sample{sw.stop(), {}};
+            }));
+    }
+
+    void run_nanoflann(int threads) {
+        step("nanoflann (serial build, parallel searches)", threads);
+        using tree = nanoflann_baseline<T, D>;
+        run_method(
+            threads, "nanoflann", [&] { return tree(points(), radius_); },
+            [&](const tree& t) { return t.count_neighbors(threads); },
+            [&](const tree& t) { return t.neighbor_lists(threads); });
+    }
+
+    void run_cell_list() {
+        if (!cell_list<T, D>::cells_needed(points(), radius_)) {
+            info_.notes.push_back("cell-list skipped: the bounding box needs more than max(8 N, "
+                                  "2^20) cells of edge r, too many for a dense textbook cell list");
+            return;
+        }
+        step("cell-list (textbook, single-threaded)", 1);
+        using cells = cell_list<T, D>;
+        run_method(
+            1, "cell-list", [&] { return cells(points(), radius_); },
+            [](const cells& c) { return c.count_neighbors(); },
+            [](const cells& c) { return c.neighbor_lists(); });
+    }
+
+    void run_brute() {
+        if (n() > brute_max_points) {
+            info_.notes.push_back("brute skipped: N > " + std::to_string(brute_max_points));
+            return;
+        }
+        step("brute (single-threaded)", 1);
+        const int r = cfg_.repeat;
+        add(1, "brute", "count", measure(r, [&] {
+                stopwatch sw;
+                sw.start();
+                const auto counts = brute_count_neighbors<T, D>(points(), radius_);
+                const double ms = sw.stop();
+                return sample{ms, total(counts)};
+            }));
+        // Brute force has no structure: its lists from scratch are its build+list.
+        add(1, "brute", "build+list", measure(r, [&] {
+                stopwatch sw;
+                sw.start();
+                const auto lists = brute_neighbor_lists<T, D>(points(), radius_);
+                return sample{sw.stop(), lists.size()};
+            }));
+        add_memory(1, "brute", 0);
+    }
+
+    const config& cfg_;
+    report& rep_;
+    std::vector<T> coords_;
+    T radius_;
+    case_info info_;
+};
+
+template <class T>
+void run_case(const config& cfg, const workload& w, std::size_t size, report& rep) {
+    if (w.dim == 2)
+        case_runner<T, 2>(cfg, w, size, rep).run();
+    else
+        case_runner<T, 3>(cfg, w, size, rep).run();
+}
+
+std::string settings_text(const config& cfg) {
+    std::string s = std::string(cfg.double_precision ? "double" : "float") + " coordinates; grid kind " +
+                    std::string(to_string(cfg.kind)) + "; cell size ";
+    s += cfg.cell_factor > 0 ? std::to_string(cfg.cell_factor) + " r" : "default";
+    s += "; frnn lists in ";
+    s += cfg.space == index_space::sorted ? "sorted (cell) order" : "the caller's order";
+    s += "; median of " + std::to_string(cfg.repeat) + " runs after 1 warm-up";
+    return s;
+}
+
+}  // namespace
+
+report run(const config& cfg) {
+    if (cfg.repeat < 1) throw error("bench: --repeat must be >= 1");
+    if (cfg.threads.empty()) throw error("bench: --threads needs at least one value");
+    for (int t : cfg.threads)
+        if (t < 1) throw error("bench: --threads values must be >= 1, got " + std::to_string(t));
+    if (cfg.cell_factor != 0 && !(cfg.cell_factor >= 0.25 && cfg.cell_factor <= 1))
+        throw error("bench: --cell must lie in [0.25, 1] (a fraction of r)");
+    // Resolve every workload and size before the first (long) measurement.
+    std::vector<std::pair<const workload*, std::size_t>> plan;
+    for (const auto& id : cfg.workloads) {
+        const workload& w = find_workload(id);
+        for (std::size_t size : cfg.sizes.empty() ? w.sizes : cfg.sizes) {
+            point_count(w, size);  // throws for a size that gives no points or too many
+            if (std::find(plan.begin(), plan.end(), std::pair{&w, size}) == plan.end())
+                plan.emplace_back(&w, size);
+        }
+    }
+
+    report rep;
+    rep.command = cfg.command;
+    rep.machine = cpu_model() + ", " + std::to_string(std::thread::hardware_concurrency()) +
+                  " hardware threads";
+    rep.build = build_description();
+    rep.settings = settings_text(cfg);
+    for (const auto& [w, size] : plan) {
+        if (cfg.double_precision)
+            run_case<double>(cfg, *w, size, rep);
+        else
+            run_case<float>(cfg, *w, size, rep);
+    }
+    return rep;
+}
+
+}  // namespace frnn::bench

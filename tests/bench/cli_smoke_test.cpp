@@ -1,0 +1,173 @@
+// Smoke runs of `frnn bench` at tiny N with --baselines: the CSV has the documented header and
+// well-formed rows, every method and thread count found the same number of pairs (which also
+// equals the brute-force oracle's), and the Markdown and plot files appear. No timing is checked.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "frnn/bench/brute_baseline.hpp"
+#include "frnn/bench/report.hpp"
+#include "frnn/bench/results.hpp"
+#include "frnn/bench/workloads.hpp"
+
+#ifdef FRNN_TOOL_PATH
+
+namespace fb = frnn::bench;
+
+namespace {
+
+std::string work_file(const std::string& name) { return std::string(FRNN_TEST_WORK_DIR) + "/" + name; }
+
+int run(const std::string& args) {
+    const std::string cmd = std::string("'") + FRNN_TOOL_PATH + "' " + args;
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::vector<std::string> split(const std::string& line, char sep) {
+    std::vector<std::string> out;
+    std::string item;
+    std::istringstream in(line);
+    while (std::getline(in, item, sep)) out.push_back(item);
+    if (!line.empty() && line.back() == sep) out.emplace_back();
+    return out;
+}
+
+std::uint64_t oracle_pairs(const std::string& id, std::size_t size) {
+    const auto& w = fb::find_workload(id);
+    if (w.dim == 2) {
+        const auto p = fb::generate<float>(w, size);
+        return fb::brute_neighbor_lists<float, 2>(p, float(w.radius)).size();
+    }
+    const auto p = fb::generate<float>(w, size);
+    return fb::brute_neighbor_lists<float, 3>(p, float(w.radius)).size();
+}
+
+// Runs one smoke configuration and checks its CSV; returns the methods seen per workload.
+void smoke(const std::string& workloads, std::size_t size, const std::string& tag) {
+    const std::string csv = work_file("smoke_" + tag + ".csv"), md = work_file("smoke_" + tag + ".md");
+    std::remove(csv.c_str());
+    std::remove(md.c_str());
+    ASSERT_EQ(run("bench --workload " + workloads + " --n " + std::to_string(size) +
+                  " --threads 1,2 --repeat 1 --baselines --csv '" + csv + "' --markdown '" + md +
+                  "' > /dev/null"),
+              0);
+    std::istringstream in(slurp(csv));
+    std::string line;
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line, "workload,n,threads,method,phase,ms,ns_per_particle,pairs");
+    const std::set<std::string> methods(fb::methods.begin(), fb::methods.end());
+    const std::set<std::string> phases(fb::phases.begin(), fb::phases.end());
+    std::map<std::string, std::set<std::uint64_t>> pairs;          // workload -> pair counts
+    std::map<std::string, std::set<std::string>> seen;             // workload -> method/phase/t
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+        ASSERT_NE(line.rfind("# VOID", 0), 0u) << line;
+        const auto f = split(line, ',');
+        ASSERT_EQ(f.size(), 8u) << line;
+        const std::string& w = f[0];
+        EXPECT_EQ(std::stoull(f[1]), fb::point_count(fb::find_workload(w), size)) << line;
+        EXPECT_TRUE(f[2] == "1" || f[2] == "2") << line;
+        EXPECT_TRUE(methods.count(f[3])) << line;
+        EXPECT_TRUE(phases.count(f[4])) << line;
+        EXPECT_GE(std::stod(f[5]), 0.0) << line;
+        EXPECT_GE(std::stod(f[6]), 0.0) << line;
+        const bool searches = f[4] != "build" && f[4] != "update";
+        EXPECT_EQ(!f[7].empty(), searches) << line;
+        if (searches) pairs[w].insert(std::stoull(f[7]));
+        seen[w].insert(f[3] + "/" + f[4] + "/" + f[2]);
+        ++rows;
+    }
+    for (const auto& id : fb::parse_workload_list(workloads)) {
+        SCOPED_TRACE(id);
+        ASSERT_EQ(pairs[id].size(), 1u) << "methods disagree on the pair count";
+        EXPECT_EQ(*pairs[id].begin(), oracle_pairs(id, size));
+        EXPECT_GT(*pairs[id].begin(), 0u);
+        for (const char* key : {"frnn/build/1", "frnn/count/2", "frnn/list/1", "frnn/build+list/2",
+                                "frnn/update/2", "nanoflann/build+list/2", "brute/build+list/1"})
+            EXPECT_TRUE(seen[id].count(key)) << key;
+        if (id != "W5" && id != "W3") {
+            EXPECT_TRUE(seen[id].count("cell-list/build+list/1"));
+        }
+    }
+    EXPECT_GT(rows, 0u);
+    const std::string markdown = slurp(md);
+    EXPECT_NE(markdown.find("| method | threads | phase | ms | ns/particle | pairs |"), std::string::npos);
+    EXPECT_NE(markdown.find("vs nanoflann"), std::string::npos);
+    EXPECT_EQ(markdown.find("VOID"), std::string::npos);
+}
+
+}  // namespace
+
+TEST(BenchCli, LatticeWorkloadsAgreeAcrossMethods) { smoke("W1,W4,W5", 8, "lattice"); }
+
+TEST(BenchCli, PointCountWorkloadsAgreeAcrossMethods) { smoke("W2,W3", 3000, "points"); }
+
+TEST(BenchCli, PlotIsAPngOrSaysWhyNot) {
+    const std::string png = work_file("smoke.png"), log = work_file("smoke_plot.log");
+    std::remove(png.c_str());
+    ASSERT_EQ(run("bench --workload W1 --n 5,6 --threads 1 --repeat 1 --plot '" + png +
+                  "' > /dev/null 2> '" + log + "'"),
+              0);
+    if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
+        const std::string data = slurp(png);
+        ASSERT_GE(data.size(), 8u);
+        EXPECT_EQ(data.substr(1, 3), "PNG");
+    } else {
+        EXPECT_NE(slurp(log).find("gnuplot not found"), std::string::npos);
+    }
+}
+
+TEST(BenchCli, BadArgumentsFailCleanly) {
+    EXPECT_EQ(run("bench --workload W9 --n 4 > /dev/null 2>&1"), 1);
+    EXPECT_EQ(run("bench --workload W1 --n 0 > /dev/null 2>&1"), 1);
+    EXPECT_EQ(run("bench --workload W1 --n 4 --threads 0 > /dev/null 2>&1"), 1);
+    EXPECT_EQ(run("bench --workload W1 --n 4 --backend vulkan > /dev/null 2>&1"), 1);
+    EXPECT_EQ(run("bench --workload W1 --n 4 --repeat 0 > /dev/null 2>&1"), 2);
+    // An unwritable output fails with a message and leaves no file behind.
+    EXPECT_EQ(run("bench --workload W1 --n 4 --repeat 1 --csv /nonexistent-dir/x.csv > /dev/null 2>&1"), 1);
+}
+
+#endif  // FRNN_TOOL_PATH
+
+TEST(BenchResults, DisagreeingPairCountsAreVoid) {
+    std::vector<fb::row> rows{
+        {"W1", 8, 1, "frnn", "count", 1, 1, 100},
+        {"W1", 8, 2, "frnn", "list", 1, 1, 100},
+        {"W1", 8, 1, "frnn", "build", 1, 1, std::nullopt},
+        {"W1", 8, 1, "nanoflann", "list", 1, 1, 100},
+        {"W2", 8, 1, "nanoflann", "list", 1, 1, 98},  // another case: not compared
+    };
+    EXPECT_TRUE(fb::disagreements(rows, "W1", 8).empty());
+    rows.push_back({"W1", 8, 1, "cell-list", "list", 1, 1, 99});
+    const auto v = fb::disagreements(rows, "W1", 8);
+    ASSERT_EQ(v.size(), 1u);
+    EXPECT_NE(v[0].find("VOID"), std::string::npos);
+    EXPECT_NE(v[0].find("cell-list/list/t1"), std::string::npos);
+
+    fb::report rep;
+    fb::case_info c;
+    c.workload = "W1";
+    c.n = 8;
+    c.voids = v;
+    rep.cases.push_back(c);
+    rep.rows = rows;
+    EXPECT_TRUE(rep.void_comparison());
+    const std::string csv = fb::to_csv(rep);
+    EXPECT_EQ(csv.rfind(std::string(fb::csv_header) + "\n", 0), 0u);
+    EXPECT_NE(csv.find("\n# VOID W1"), std::string::npos);
+    EXPECT_NE(csv.find("W1,8,1,frnn,build,1,1,\n"), std::string::npos);  // no pairs for a build
+    EXPECT_NE(fb::to_markdown(rep).find("**VOID W1"), std::string::npos);
+}
