@@ -123,10 +123,10 @@ std::string to_markdown(const report& rep) {
     md += "- pairs: directed neighbor pairs (entries of the full lists, each pair counted twice); "
           "ns/particle: median time / N\n";
     for (const auto& c : rep.cases) {
-        md += "\n## " + c.workload + " " + c.name + ": N = " + grouped(c.n) + " (" +
-              c.size_meaning + " " +
-              std::to_string(c.size) + "), " + std::to_string(c.dim) + "D, r = " +
-              readable(c.radius) + "\n\n";
+        md += "\n## " + c.workload + " " + c.name + ": N = " + grouped(c.n);
+        if (c.size_meaning != "points")
+            md += " (" + c.size_meaning + " " + std::to_string(c.size) + ")";
+        md += ", " + std::to_string(c.dim) + "D, r = " + format("%g", c.radius) + "\n\n";
         for (const auto& v : c.voids) md += "**" + v + "** (the comparison is void)\n\n";
         md += "| method | threads | phase | ms | ns/particle | pairs |\n";
         md += "|---|---:|---|---:|---:|---:|\n";
