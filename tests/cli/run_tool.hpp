@@ -82,19 +82,6 @@ void write_points(const std::filesystem::path& file, const std::vector<T>& xyz, 
     write_bytes(file, s);
 }
 
-/// Pairs (row, neighbor) of lists, keeping neighbor >= row when `upper`.
-template <class T>
-std::vector<std::int64_t> pairs_of(const csr<T>& lists, bool upper) {
-    std::vector<std::int64_t> pairs;
-    for (std::size_t i = 0; i < lists.rows(); ++i)
-        for (std::uint32_t j : lists.row(i))
-            if (!upper || j >= i) {
-                pairs.push_back(std::int64_t(i));
-                pairs.push_back(j);
-            }
-    return pairs;
-}
-
 /// The tool's .npy pair output.
 inline std::vector<std::int64_t> read_pairs(const std::filesystem::path& file, std::uint64_t expected_rows) {
     return npy_values<std::int64_t>(read_bytes(file), "<i8", {expected_rows, 2});

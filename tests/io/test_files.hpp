@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "frnn/csr.hpp"
 #include "frnn/error.hpp"
 #include "frnn/io/read.hpp"
 
@@ -93,6 +95,58 @@ std::vector<U> npy_values(std::string_view bytes, std::string_view descr,
     if (bytes.size() - h.data_offset == v.size() * sizeof(U))
         std::memcpy(v.data(), bytes.data() + h.data_offset, v.size() * sizeof(U));
     return v;
+}
+
+/// Pairs (row, neighbor) of lists, flattened, keeping neighbor >= row when `upper`.
+template <class T>
+std::vector<std::int64_t> pairs_of(const csr<T>& lists, bool upper) {
+    std::vector<std::int64_t> pairs;
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        for (std::uint32_t j : lists.row(i))
+            if (!upper || j >= i) {
+                pairs.push_back(std::int64_t(i));
+                pairs.push_back(j);
+            }
+    return pairs;
+}
+
+/// The distances of the same entries as pairs_of.
+template <class T>
+std::vector<T> distances_of(const csr<T>& lists, bool upper) {
+    std::vector<T> d;
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k)
+            if (!upper || lists.indices[k] >= i) d.push_back(lists.distances[k]);
+    return d;
+}
+
+/// A pair csv ("i,j,distance" header, then one line per pair) read back.
+template <class T>
+struct csv_pairs {
+    std::vector<std::int64_t> pairs;
+    std::vector<T> distances;
+};
+template <class T>
+csv_pairs<T> parse_csv_pairs(std::string_view text) {
+    csv_pairs<T> out;
+    EXPECT_EQ(text.substr(0, 13), "i,j,distance\n");
+    for (std::size_t pos = 13; pos < text.size();) {
+        std::size_t eol = text.find('\n', pos);
+        EXPECT_NE(eol, std::string_view::npos) << "last line without newline";
+        if (eol == std::string_view::npos) eol = text.size();
+        const char* end = text.data() + eol;
+        std::int64_t i = -1, j = -1;
+        T d = -1;
+        const char* p = std::from_chars(text.data() + pos, end, i).ptr;
+        if (p < end && *p == ',') p = std::from_chars(p + 1, end, j).ptr;
+        if (p < end && *p == ',') p = std::from_chars(p + 1, end, d).ptr;
+        EXPECT_EQ(p, end) << "bad line '" << text.substr(pos, eol - pos) << "'";
+        out.pairs.push_back(i);
+        out.pairs.push_back(j);
+        out.distances.push_back(d);
+        pos = eol + 1;
+    }
+    return out;
 }
 
 /// Bit-by-bit CRC-32, independent of the library's table version.

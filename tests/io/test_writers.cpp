@@ -1,6 +1,5 @@
 // The writers: generic npy arrays, pairs as npy and csv, CSR lists as npz (read back by an
 // independent zip reader, and by Python when available), and the all-or-nothing output file.
-#include <charconv>
 #include <cstdlib>
 
 #include "crc32.hpp"
@@ -24,18 +23,6 @@ csr<T> sample_lists(bool self = false) {
     csr<T> lists = brute_force_lists<T, 3>(xyz, xyz, T(0.8), !self);
     EXPECT_GT(lists.size(), 40u);
     return lists;
-}
-
-template <class T>
-std::vector<std::int64_t> expected_pairs(const csr<T>& lists, bool upper) {
-    std::vector<std::int64_t> pairs;
-    for (std::size_t i = 0; i < lists.rows(); ++i)
-        for (std::uint32_t j : lists.row(i))
-            if (!upper || j >= i) {
-                pairs.push_back(std::int64_t(i));
-                pairs.push_back(j);
-            }
-    return pairs;
 }
 
 template <class U>
@@ -76,7 +63,7 @@ TEST(pairs_write, npy_upper_and_all) {
         const csr<double> lists = sample_lists<double>(self);
         for (bool upper : {true, false}) {
             const auto filter = upper ? io::pair_filter::upper : io::pair_filter::all;
-            const auto expected = expected_pairs(lists, upper);
+            const auto expected = pairs_of(lists, upper);
             EXPECT_EQ(io::count_pairs(lists, filter), expected.size() / 2);
             io::write_neighbors(dir / "p.npy", lists, filter);
             EXPECT_EQ(npy_values<std::int64_t>(read_bytes(dir / "p.npy"), "<i8", {expected.size() / 2, 2}), expected);
@@ -89,32 +76,10 @@ void csv_round_trip() {
     const auto file = fresh_dir() / "p.csv";
     const csr<T> lists = sample_lists<T>();
     io::write_neighbors(file, lists, io::pair_filter::upper);
-    const std::string text = read_bytes(file);
-    ASSERT_EQ(text.substr(0, 13), "i,j,distance\n");
-    std::size_t pos = 13, lines = 0;
-    for (std::size_t i = 0; i < lists.rows(); ++i)
-        for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
-            if (lists.indices[k] < i) continue;
-            const std::size_t eol = text.find('\n', pos);
-            ASSERT_NE(eol, std::string::npos);
-            const std::string line = text.substr(pos, eol - pos);
-            pos = eol + 1;
-            ++lines;
-            std::size_t a = 0, b = 0;
-            T d = 0;
-            const char* p = line.data();
-            const char* end = line.data() + line.size();
-            p = std::from_chars(p, end, a).ptr;
-            ASSERT_EQ(*p++, ',') << line;
-            p = std::from_chars(p, end, b).ptr;
-            ASSERT_EQ(*p++, ',') << line;
-            ASSERT_EQ(std::from_chars(p, end, d).ptr, end) << line;
-            EXPECT_EQ(a, i);
-            EXPECT_EQ(b, lists.indices[k]);
-            EXPECT_EQ(d, lists.distances[k]);  // shortest round-trip text: exact
-        }
-    EXPECT_EQ(pos, text.size());
-    EXPECT_EQ(lines, io::count_pairs(lists, io::pair_filter::upper));
+    const csv_pairs<T> read = parse_csv_pairs<T>(read_bytes(file));
+    EXPECT_EQ(read.pairs, pairs_of(lists, true));
+    EXPECT_EQ(read.distances, distances_of(lists, true));  // shortest round-trip text: exact
+    EXPECT_EQ(read.distances.size(), io::count_pairs(lists, io::pair_filter::upper));
 }
 
 TEST(pairs_write, csv_float_round_trips_exactly) { csv_round_trip<float>(); }
