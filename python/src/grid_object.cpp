@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <utility>
@@ -136,20 +137,22 @@ grid_object::grid_object(py::handle points, double radius, const grid_args& args
 py::array grid_object::query_pairs() const {
     return std::visit(
         [&](auto& g) {
-            std::vector<std::int64_t> pairs = read([&] {
+            auto [pairs, m] = read([&] {
                 list_options o;
                 o.half = true;
                 o.order = row_order::index;
                 const auto c = g.neighbor_lists(o);
-                std::vector<std::int64_t> p(2 * c.size());
-                for (std::size_t i = 0; i < c.rows(); ++i)
+                // Not zero-filled: every value is written once, rows in parallel.
+                std::unique_ptr<std::int64_t[]> p(new std::int64_t[2 * c.size()]);
+                const auto rows = std::int64_t(c.rows());
+#pragma omp parallel for schedule(static) num_threads(g.threads())
+                for (std::int64_t i = 0; i < rows; ++i)
                     for (auto k = c.offsets[i]; k < c.offsets[i + 1]; ++k) {
-                        p[2 * k] = std::int64_t(i);
+                        p[2 * k] = i;
                         p[2 * k + 1] = c.indices[k];
                     }
-                return p;
+                return std::pair{std::move(p), py::ssize_t(c.size())};
             });
-            const auto m = py::ssize_t(pairs.size() / 2);
             return to_numpy(std::move(pairs), {m, 2});
         },
         g_);
