@@ -90,6 +90,7 @@ public:
     context& operator=(const context&) = delete;
 
     const device_info& info() const;
+    VkInstance instance() const;
     VkDevice device() const;
     VkPhysicalDevice physical_device() const;
     VkQueue queue() const;

@@ -11,10 +11,22 @@ context::context(const external_device& device) : impl_(std::make_unique<detail:
 context::~context() = default;
 
 const device_info& context::info() const { return impl_->info(); }
+VkInstance context::instance() const { return impl_->instance(); }
 VkDevice context::device() const { return impl_->handle(); }
 VkPhysicalDevice context::physical_device() const { return impl_->physical(); }
 VkQueue context::queue() const { return impl_->queue(); }
 std::uint32_t context::queue_family() const { return impl_->family(); }
+
+void context::upload(buffer_view dst, const void* data, std::size_t bytes) {
+    if (bytes > dst.size) throw error("vulkan::context::upload: " + std::to_string(bytes) +
+                                      " bytes into a range of " + std::to_string(dst.size));
+    impl_->upload(dst, data, bytes);
+}
+void context::download(buffer_view src, void* data, std::size_t bytes) const {
+    if (bytes > src.size) throw error("vulkan::context::download: " + std::to_string(bytes) +
+                                      " bytes from a range of " + std::to_string(src.size));
+    impl_->download(src, data, bytes);
+}
 
 // ---------------------------------------------------------------------------------------------
 

@@ -1,0 +1,204 @@
+// The host API around the queries: device info, the validation messenger, errors, the caller's
+// buffers and device, results left on the device, determinism, the convenience functions and
+// agreement with the CPU grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <limits>
+
+#include "frnn/brute_force.hpp"
+#include "frnn/grid.hpp"
+#include "oracle/point_sets.hpp"
+#include "vulkan_env.hpp"
+
+namespace frnn::vulkan::test {
+namespace {
+
+using frnn::test::uniform_points;
+
+class vulkan_api : public vulkan_test {};
+
+template <class F>
+std::string error_of(F&& f) {
+    try {
+        f();
+    } catch (const frnn::error& e) {
+        return e.what();
+    }
+    return "(no frnn::error thrown)";
+}
+
+TEST_F(vulkan_api, reports_device) {
+    const auto& info = ctx().info();
+    EXPECT_FALSE(info.name.empty());
+    EXPECT_GT(info.max_storage_buffer_range, 0u);
+    std::printf("Vulkan device: %s, subgroup size %u, maxStorageBufferRange %llu\n", info.name.c_str(),
+                info.subgroup_size, static_cast<unsigned long long>(info.max_storage_buffer_range));
+}
+
+TEST_F(vulkan_api, validation_messenger_sees_errors) {
+    // Proves that a validation message would fail the tests: an invalid call must be reported.
+    if (!validation_layer_installed()) GTEST_SKIP() << "VK_LAYER_KHRONOS_validation is not installed";
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = 64;
+    info.usage = 0;  // invalid: VUID-VkBufferCreateInfo-usage-requiredbitmask
+    VkBuffer b = VK_NULL_HANDLE;
+    vkCreateBuffer(ctx().device(), &info, nullptr, &b);
+    if (b) vkDestroyBuffer(ctx().device(), b, nullptr);
+    const auto seen = validation_messages().take();
+    EXPECT_FALSE(seen.empty()) << "the validation layer reported nothing for an invalid call";
+}
+
+TEST_F(vulkan_api, rejects_bad_input_with_reasons) {
+    grid<3> g(ctx());
+    auto pts = uniform_points<float, 3>(100, 0, 5, 1);
+    pts[7 * 3 + 1] = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_NE(error_of([&] { g.build(pts, 1.0f); }).find("point 7"), std::string::npos);
+    pts[7 * 3 + 1] = std::numeric_limits<float>::infinity();
+    EXPECT_NE(error_of([&] { g.build(pts, 1.0f); }).find("point 7"), std::string::npos);
+    pts[7 * 3 + 1] = 1.0f;
+    EXPECT_NE(error_of([&] { g.build(pts, -1.0f); }).find("radius"), std::string::npos);
+    grid_options periodic;
+    periodic.periodic = {5, 5, 5};
+    EXPECT_NE(error_of([&] { g.build(pts, 1.0f, periodic); }).find("periodic"), std::string::npos);
+    EXPECT_NE(error_of([&] { g.count_neighbors(); }).find("not built"), std::string::npos);
+    grid_options uniform;
+    uniform.kind = grid_kind::uniform;
+    pts.push_back(1e7f), pts.push_back(1e7f), pts.push_back(1e7f);
+    EXPECT_NE(error_of([&] { g.build(pts, 1.0f, uniform); }).find("hashed"), std::string::npos);
+    g.build(pts, 1.0f);  // automatic: hashed
+    EXPECT_EQ(g.kind(), grid_kind::hashed);
+    EXPECT_NE(error_of([&] { g.nearest(0); }).find("k must"), std::string::npos);
+    EXPECT_NE(error_of([&] { neighbor_lists(ctx(), pts, 4, 1.0f); }).find("dimension"), std::string::npos);
+}
+
+TEST_F(vulkan_api, rejects_buffers_beyond_the_binding_limit) {
+    // All points identical: every pair is a neighbor, n^2 pairs.
+    const std::uint64_t limit = ctx().info().max_storage_buffer_range;
+    const std::size_t n = std::size_t(std::sqrt(double(limit) / 4)) + 64;
+    if (std::uint64_t(n) * n * 4 > 4 * limit || n > 40000)
+        GTEST_SKIP() << "maxStorageBufferRange " << limit << " is too large for a quick over-limit test";
+    const std::vector<float> pts(n * 3, 1.0f);
+    grid<3> g(ctx());
+    g.build(pts, 1.0f);
+    const std::string msg = error_of([&] { g.neighbor_lists(); });
+    EXPECT_NE(msg.find("maxStorageBufferRange"), std::string::npos) << msg;
+    // The grid stays usable after the error.
+    EXPECT_EQ(g.count_neighbors()[0], n - 1);
+    // A user buffer smaller than the points it should hold.
+    device_buffer small(ctx(), 64);
+    EXPECT_NE(error_of([&] { g.build(small.view(), 100, 1.0f); }).find("buffer holds"), std::string::npos);
+    EXPECT_NE(error_of([&] { device_buffer huge(ctx(), limit + 1); }).find("maxStorageBufferRange"),
+              std::string::npos);
+}
+
+TEST_F(vulkan_api, builds_from_the_callers_buffer) {
+    const auto pts = uniform_points<float, 3>(1200, 0, 9, 2);
+    device_buffer coords(ctx(), pts.size() * sizeof(float) + 256, "coords");
+    coords.upload(pts.data(), pts.size() * sizeof(float), 256);  // at an offset
+    grid<3> from_buffer(ctx()), from_host(ctx());
+    buffer_view view = coords.view();
+    view.offset = 256;
+    view.size = pts.size() * sizeof(float);
+    from_buffer.build(view, pts.size() / 3, 1.0f);
+    from_host.build(pts, 1.0f);
+    list_options o;
+    o.distances = true;
+    const auto a = from_buffer.neighbor_lists(o), b = from_host.neighbor_lists(o);
+    EXPECT_EQ(a.offsets, b.offsets);
+    EXPECT_EQ(a.indices, b.indices);
+    EXPECT_EQ(a.distances, b.distances);
+    EXPECT_GT(a.size(), 0u);
+}
+
+TEST_F(vulkan_api, wraps_the_callers_device) {
+    external_device ext;
+    ext.instance = ctx().instance();
+    ext.physical_device = ctx().physical_device();
+    ext.device = ctx().device();
+    ext.queue = ctx().queue();
+    ext.queue_family = ctx().queue_family();
+    const auto pts = uniform_points<float, 2>(800, 0, 20, 3);
+    std::vector<std::uint32_t> a, b;
+    {
+        context wrapped(ext);
+        EXPECT_EQ(wrapped.device(), ctx().device());
+        a = count_neighbors(wrapped, pts, 2, 1.0f);
+    }  // destroys nothing of the caller's
+    b = count_neighbors(ctx(), pts, 2, 1.0f);
+    EXPECT_EQ(a, b);
+    const auto ref = brute_force_lists<float, 2>(pts, pts, 1.0f, true);
+    for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], ref.offsets[i + 1] - ref.offsets[i]);
+}
+
+TEST_F(vulkan_api, lists_left_on_the_device) {
+    const auto pts = uniform_points<float, 3>(900, 0, 8, 4);
+    grid<3> g(ctx());
+    g.build(pts, 1.0f);
+    list_options o;
+    o.order = row_order::index;
+    o.distances = true;
+    const auto host = g.neighbor_lists(o);
+    const auto dev = g.neighbor_lists_on_device(o);
+    ASSERT_EQ(dev.rows, 900u);
+    ASSERT_EQ(dev.pairs, host.size());
+    std::vector<std::uint32_t> offsets(dev.rows + 1), indices(dev.pairs);
+    std::vector<float> d2(dev.pairs);
+    ctx().download(dev.offsets, offsets.data(), offsets.size() * 4);
+    ctx().download(dev.indices, indices.data(), indices.size() * 4);
+    ctx().download(dev.distances_squared, d2.data(), d2.size() * 4);
+    for (std::size_t i = 0; i <= dev.rows; ++i) ASSERT_EQ(offsets[i], host.offsets[i]);
+    EXPECT_EQ(indices, host.indices);
+    for (std::size_t k = 0; k < d2.size(); ++k) ASSERT_EQ(std::sqrt(d2[k]), host.distances[k]);
+}
+
+TEST_F(vulkan_api, identical_results_run_to_run) {
+    // Many points per cell, so the atomics' order inside cells varies between runs.
+    const auto pts = frnn::test::clustered_points<float, 3>(2000, 3, 0.7, 0, 10, 5);
+    grid<3> g(ctx());
+    list_options o;
+    o.distances = true;  // traversal order
+    g.build(pts, 0.6f);
+    const auto perm = g.sorted_to_original();
+    const auto first = g.neighbor_lists(o);
+    const auto near = g.nearest(7);
+    for (int run = 0; run < 3; ++run) {
+        g.build(pts, 0.6f);
+        EXPECT_EQ(g.sorted_to_original(), perm);
+        const auto again = g.neighbor_lists(o);
+        EXPECT_EQ(again.indices, first.indices);
+        EXPECT_EQ(again.distances, first.distances);
+        EXPECT_EQ(g.nearest(7).indices, near.indices);
+    }
+}
+
+TEST_F(vulkan_api, agrees_with_the_cpu_grid) {
+    // A W1-style jittered lattice, the SPH case, against frnn::grid<float, 3>.
+    std::mt19937_64 rng(42);
+    std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+    std::vector<float> pts;
+    for (int z = 0; z < 16; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x)
+                for (int v : {x, y, z}) pts.push_back(float(v + jitter(rng)));
+    frnn::grid<float, 3> cpu(pts, 2.0f);
+    list_options o;
+    o.order = row_order::index;
+    o.distances = true;
+    const auto want = cpu.neighbor_lists(o);
+    for (grid_kind kind : {grid_kind::uniform, grid_kind::hashed}) {
+        grid_options go;
+        go.kind = kind;
+        const auto got = neighbor_lists(ctx(), pts, 3, 2.0f, go, o);
+        EXPECT_EQ(got.offsets, want.offsets);
+        EXPECT_EQ(got.indices, want.indices);
+        EXPECT_EQ(got.distances, want.distances);
+    }
+    const auto counts = cpu.count_neighbors();
+    EXPECT_EQ(count_neighbors(ctx(), pts, 3, 2.0f), counts);
+}
+
+}  // namespace
+}  // namespace frnn::vulkan::test

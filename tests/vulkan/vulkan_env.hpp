@@ -1,0 +1,56 @@
+// Shared by the Vulkan tests: one context on the first compute device, with the validation
+// layer when installed and a debug-utils messenger that turns every validation warning or error
+// into a test failure. Without a device, tests skip with the reason (never pass silently).
+#pragma once
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "frnn/vulkan.hpp"
+
+namespace frnn::vulkan::test {
+
+struct messages {
+    std::mutex mutex;
+    std::vector<std::string> list;
+    void add(severity s, const std::string& m) {
+        if (s != severity::warning && s != severity::error) return;
+        std::lock_guard lock(mutex);
+        list.push_back((s == severity::error ? "error: " : "warning: ") + m);
+    }
+    std::vector<std::string> take() {
+        std::lock_guard lock(mutex);
+        return std::exchange(list, {});
+    }
+};
+
+inline messages& validation_messages() {
+    static messages m;
+    return m;
+}
+
+bool validation_layer_installed();
+
+/// The shared context, or nullptr with `why` set when no Vulkan device can be used.
+context* shared_context(std::string* why = nullptr);
+
+/// Base fixture: skips without a device; fails a test that produced validation messages.
+class vulkan_test : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string why;
+        ctx_ = shared_context(&why);
+        if (!ctx_) GTEST_SKIP() << "no Vulkan device: " << why;
+        validation_messages().take();
+    }
+    void TearDown() override {
+        for (const auto& m : validation_messages().take()) ADD_FAILURE() << "Vulkan validation " << m;
+    }
+    context& ctx() { return *ctx_; }
+    context* ctx_ = nullptr;
+};
+
+}  // namespace frnn::vulkan::test
