@@ -64,8 +64,9 @@ grid_options make_options(const grid_args& args, int dim) {
     o.kind = parse_grid_kind(args.grid);
     o.cell_size = args.cell_size.value_or(0.0);
     o.periodic = parse_periodic(args.periodic, dim);
-    if (args.threads && *args.threads < 1)
-        throw py::value_error("threads must be >= 1 (None uses all hardware threads); got " +
+    // The upper bound only stops typos from asking OpenMP for a million threads.
+    if (args.threads && (*args.threads < 1 || *args.threads > 1024))
+        throw py::value_error("threads must be in [1, 1024] (None uses all hardware threads); got " +
                               std::to_string(*args.threads));
     o.threads = args.threads.value_or(0);
     return o;
@@ -128,7 +129,7 @@ void grid_object::build_into(any_grid& target, py::handle points, double radius,
     });
 }
 
-grid_object::grid_object(py::handle points, double radius, const grid_args& args) {
+grid_object::grid_object(const py::object& points, double radius, const grid_args& args) {
     const py::array a = check_points_shape(as_array(points), "points", 0, false);
     options_ = make_options(args, int(a.shape(1)));
     build_into(g_, a, radius, options_);
@@ -176,7 +177,7 @@ py::array grid_object::count_neighbors() const {
         [&](auto& g) { return to_numpy(read([&] { return widen(g.count_neighbors()); })); }, g_);
 }
 
-py::object grid_object::query_ball_point(py::handle x, std::optional<double> r,
+py::object grid_object::query_ball_point(const py::object& x, std::optional<double> r,
                                          bool return_distances, const py::object& sort,
                                          bool return_length) const {
     const row_order order = parse_sort(sort);
@@ -207,7 +208,7 @@ py::object grid_object::query_ball_point(py::handle x, std::optional<double> r,
         g_);
 }
 
-py::tuple grid_object::query_knn(std::size_t k, py::handle x) const {
+py::tuple grid_object::query_knn(std::size_t k, const py::object& x) const {
     if (k < 1) throw py::value_error("query_knn: k must be >= 1");
     list_options o;
     o.distances = true;
@@ -223,7 +224,7 @@ py::tuple grid_object::query_knn(std::size_t k, py::handle x) const {
         g_);
 }
 
-void grid_object::update(py::handle points) {
+void grid_object::update(const py::object& points) {
     std::visit(
         [&](auto& g) {
             using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
@@ -282,11 +283,11 @@ static py::array take_rows(py::handle array, const py::array& rows, const char* 
     return a.attr("take")(rows, py::arg("axis") = 0);
 }
 
-py::array grid_object::reorder(py::handle array) const {
+py::array grid_object::reorder(const py::object& array) const {
     return take_rows(array, permutation(), "reorder");
 }
 
-py::array grid_object::restore_order(py::handle array) const {
+py::array grid_object::restore_order(const py::object& array) const {
     std::shared_lock lock(mutex_);
     const py::array inverse = std::visit([&](auto& g) { return index_array(g, true); }, g_);
     lock.unlock();

@@ -31,17 +31,17 @@ struct grid_args {
 
 class grid_object {
 public:
-    grid_object(py::handle points, double radius, const grid_args& args);
+    grid_object(const py::object& points, double radius, const grid_args& args);
 
     py::array query_pairs() const;
     py::tuple neighbors(bool return_distances, const py::object& sort, bool half) const;
     py::array count_neighbors() const;
-    py::object query_ball_point(py::handle x, std::optional<double> r, bool return_distances,
+    py::object query_ball_point(const py::object& x, std::optional<double> r, bool return_distances,
                                 const py::object& sort, bool return_length) const;
-    py::tuple query_knn(std::size_t k, py::handle x) const;
-    void update(py::handle points);
-    py::array reorder(py::handle array) const;
-    py::array restore_order(py::handle array) const;
+    py::tuple query_knn(std::size_t k, const py::object& x) const;
+    void update(const py::object& points);
+    py::array reorder(const py::object& array) const;
+    py::array restore_order(const py::object& array) const;
     py::array permutation() const;
 
     std::size_t size() const;
@@ -67,8 +67,6 @@ private:
                            const grid_options& options);
     /// The grid's points in the caller's order (exact copies of the stored coordinates).
     py::array original_points() const;
-    /// `x` converted to the grid's precision and checked to be (M, dim) or (dim,).
-    py::array query_points(py::handle x) const;
     /// Runs f(grid) with the GIL released under the shared (reading) lock.
     template <class F>
     auto read(F&& f) const;

@@ -163,7 +163,7 @@ PYBIND11_MODULE(_frnn, m) {
     py::register_exception<frnn::error>(m, "Error", PyExc_ValueError);
 
     py::class_<grid_object>(m, "Grid", grid_doc)
-        .def(py::init([](py::handle points, double radius, std::string grid,
+        .def(py::init([](const py::object& points, double radius, std::string grid,
                          std::optional<double> cell_size, py::object periodic,
                          std::optional<int> threads) {
                  return new grid_object(points, radius,
@@ -208,7 +208,7 @@ PYBIND11_MODULE(_frnn, m) {
 
     m.def(
         "query_pairs",
-        [](py::handle points, double radius, std::string grid, std::optional<double> cell_size,
+        [](const py::object& points, double radius, std::string grid, std::optional<double> cell_size,
            py::object periodic, std::optional<int> threads) {
             return grid_object(points, radius,
                                grid_args{std::move(grid), cell_size, periodic, threads})

@@ -58,6 +58,7 @@ def test_non_finite_points_raise(value, dtype):
     ({"periodic": [10.0, 10.0]}, "periodic"),
     ({"periodic": "big"}, "periodic"),
     ({"threads": 0}, "threads"),
+    ({"threads": 100_000}, "threads"),
 ])
 def test_bad_options_raise_value_error(kwargs, match):
     kwargs = dict(kwargs)
