@@ -40,6 +40,8 @@ struct candidate_run {
 };
 /// Upper bound of runs around one point: (2k+1)^d with k <= 4.
 inline constexpr std::size_t max_runs = 729;
+/// Extra values after the last sorted coordinate, so vector loads never leave the array.
+inline constexpr std::size_t coordinate_padding = 8;
 }  // namespace detail
 
 template <class T, int D>
@@ -77,7 +79,7 @@ public:
     std::span<const std::uint32_t> original_to_sorted() const { return inverse_; }
     /// Coordinate `axis` of the s-th point in cell order.
     T sorted_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
-    /// All coordinates on `axis` in cell order (size() values).
+    /// All coordinates on `axis` in cell order (size() values, then detail::coordinate_padding zeros).
     const T* sorted_coords(int axis) const { return pos_[axis].data(); }
     /// Sorted points [s, end) lie in one cell and share their candidate runs.
     std::uint32_t cell_group_end(std::uint32_t s) const;

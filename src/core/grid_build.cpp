@@ -262,7 +262,8 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     // Fixed chunks for count and scatter: chunk c's points go after chunk c-1's in every cell,
     // which keeps the sort stable for any number of chunks.
     const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
-    for (auto& p : pos_) p.resize(n);
+    // Padding: the SIMD kernels may load a few values past the last point (and mask them off).
+    for (auto& p : pos_) p.assign(n + detail::coordinate_padding, T(0));
     perm_.resize(n);
     inverse_.resize(n);
     point_slot_.resize(n);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cpu/parallel.hpp"
+#include "cpu/run_kernels.hpp"
 #include "cpu/simd_mask.hpp"
 #include "frnn/grid.hpp"
 
@@ -58,26 +59,31 @@ struct distance_kernel {
         }
     }
 
-    /// Calls block(begin, len, d2) for the candidates of the runs, in blocks of at most
-    /// `block_size`; candidates of shared hash slots outside their run's cell get d2 = +inf.
+    /// Calls hit(j, d2) for every point j >= first of the run within r of x, in increasing j.
+    /// Open-boundary runs of one cell use the SIMD kernel; periodic runs and runs of shared hash
+    /// slots (whose candidates outside the run's cell are dropped) take the general path.
     static constexpr std::uint32_t block_size = 64;
-    template <bool Periodic, class Block>
-    void for_each_block(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n,
-                        std::uint32_t first, Block&& block) const {
+    template <bool Periodic, class Hit>
+    void run_hits(const std::array<T, D>& x, const detail::candidate_run& run, std::uint32_t first, Hit&& hit) const {
+        const std::uint32_t begin = std::max(run.begin, first);
+        if (!Periodic && !run.filter) {
+            detail::hits_in_run<T, D>(p, x.data(), begin, run.end, r2, hit);
+            return;
+        }
         alignas(64) T buf[block_size];
-        for (std::size_t k = 0; k < n; ++k) {
-            const auto& run = runs[k];
-            for (std::uint32_t b = std::max(run.begin, first); b < run.end; b += block_size) {
-                const std::uint32_t len = std::min(block_size, run.end - b);
-                d2_block<Periodic>(x, b, len, buf);
-                if (run.filter) {
-                    for (std::uint32_t m = 0; m < len; ++m) {
-                        std::array<T, D> q;
-                        for (int a = 0; a < D; ++a) q[a] = p[a][b + m];
-                        if (g.cell_of(q) != run.cell) buf[m] = T(INFINITY);
-                    }
+        for (std::uint32_t b = begin; b < run.end; b += block_size) {
+            const std::uint32_t len = std::min(block_size, run.end - b);
+            d2_block<Periodic>(x, b, len, buf);
+            if (run.filter) {
+                for (std::uint32_t m = 0; m < len; ++m) {
+                    std::array<T, D> q;
+                    for (int a = 0; a < D; ++a) q[a] = p[a][b + m];
+                    if (g.cell_of(q) != run.cell) buf[m] = T(INFINITY);
                 }
-                block(b, len, static_cast<const T*>(buf));
+            }
+            for (std::uint64_t m = detail::le_mask(buf, len, r2); m; m &= m - 1) {
+                const std::uint32_t k = std::uint32_t(std::countr_zero(m));
+                hit(b + k, buf[k]);
             }
         }
     }
@@ -85,9 +91,13 @@ struct distance_kernel {
     template <bool Periodic>
     std::uint32_t count(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n) const {
         std::uint32_t c = 0;
-        for_each_block<Periodic>(x, runs, n, 0, [&](std::uint32_t, std::uint32_t len, const T* d2) {
-            c += std::uint32_t(std::popcount(detail::le_mask(d2, len, r2)));
-        });
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!Periodic && !runs[k].filter) {
+                c += detail::count_run<T, D>(p, x.data(), runs[k].begin, runs[k].end, r2);
+            } else {
+                run_hits<Periodic>(x, runs[k], 0, [&](std::uint32_t, T) { ++c; });
+            }
+        }
         return c;
     }
 };
@@ -256,7 +266,6 @@ struct query_engine {
         const bool sorted_space = o.space == index_space::sorted;
         const bool exclude_self = !from_queries && !o.self;
         const bool half = !from_queries && o.half;
-        const T r2 = kern.r2;
         walk(queries, from_queries, parts,
              [&](std::size_t c, std::uint32_t s, const std::array<T, D>& x, const candidate_run* runs, std::size_t n) {
                  auto& ch = chunks[c];
@@ -266,24 +275,22 @@ struct query_engine {
                  const std::uint32_t first = half && sorted_space ? (o.self ? s : s + 1) : 0;
                  auto emit_all = [&](auto periodic_tag) {
                      constexpr bool P = decltype(periodic_tag)::value;
-                     kern.template for_each_block<P>(x, runs, n, first, [&](std::uint32_t b, std::uint32_t len, const T* d2) {
-                         std::uint64_t hits = detail::le_mask(d2, len, r2);
-                         if (hits == 0) return;
-                         ch.reserve_more(len);
+                     for (std::size_t k = 0; k < n; ++k) {
+                         const auto& run = runs[k];
+                         if (run.end <= first) continue;
+                         ch.reserve_more(run.end - std::max(run.begin, first));
                          std::uint32_t* __restrict idx = ch.index.data();
                          T* __restrict dd = ch.d2.data();
                          std::size_t used = ch.used;
-                         for (; hits; hits &= hits - 1) {
-                             const std::uint32_t m = std::uint32_t(std::countr_zero(hits));
-                             const std::uint32_t j = b + m;
-                             if (j == skip) continue;
-                             if (half && !sorted_space && !(perm[j] > ps || (o.self && j == s))) continue;
+                         kern.template run_hits<P>(x, run, first, [&](std::uint32_t j, T d2) {
+                             if (j == skip) return;
+                             if (half && !sorted_space && !(perm[j] > ps || (o.self && j == s))) return;
                              idx[used] = j;
-                             if (need_d2) dd[used] = d2[m];
+                             if (need_d2) dd[used] = d2;
                              ++used;
-                         }
+                         });
                          ch.used = used;
-                     });
+                     }
                  };
                  if (kern.periodic) emit_all(std::true_type{});
                  else emit_all(std::false_type{});
