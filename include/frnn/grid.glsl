@@ -13,7 +13,8 @@
 // caller's index. Every point j with |x - x_j| <= radius is visited exactly once, in a fixed
 // order (rows of cells, then increasing original index), so sums are reproducible run to run.
 // Cost: the (2*ceil(r/cell)+1)^d cells around x, ~27 cells' points in 3D with cell = r.
-// Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid.
+// Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid; in a
+// periodic box they use the minimum image, d -= L * roundEven(d / L).
 #ifndef FRNN_GRID_GLSL
 #define FRNN_GRID_GLSL
 
@@ -34,18 +35,19 @@
 #error "FRNN_DIM must be 2 or 3"
 #endif
 
-// Grid parameters, written by the host at build time (std430, 80 bytes).
+// Grid parameters, written by the host at build time (std430, 96 bytes).
 struct frnn_grid_params {
     vec4 origin;      // lower corner of cell (0,0,0)
-    vec4 inv_cell;    // 1 / cell edge
+    vec4 inv_cell;    // 1 / cell edge, per axis
     ivec4 dims;       // uniform grid: cells per axis
+    vec4 box;         // periodic box lengths (periodic grids only)
     float radius;
     float radius2;    // radius * radius, the acceptance test d2 <= radius2
-    float reach;      // radius * inv_cell: the search half-width in cell units
     uint count;       // number of points
     uint hashed;      // 0: uniform grid, 1: hashed grid
     uint mask;        // hashed: slots - 1
     uint slots;       // cells (uniform) or table slots (hashed)
+    uint periodic;    // 1: periodic box [0, L) per axis, uniform grid
     uint pad;
 };
 
@@ -57,8 +59,15 @@ layout(std430, set = FRNN_SET, binding = 0) readonly buffer frnn_params_block {
 // and stay exact (they are compared by distance anyway).
 const float frnn_max_cell = 1073741824.0;
 
-// Cell coordinate on one axis, before clamping (float, may be huge for outliers).
+// Cell coordinate on one axis, before clamping (float, may be huge for outliers). Periodic:
+// the coordinate wrapped into [0, L) first.
 float frnn_cell_float(float x, int axis) {
+    if (frnn_grid.periodic != 0u) {
+        const float box = frnn_grid.box[axis];
+        precise float w = x - box * floor(x / box);
+        precise float u = w * frnn_grid.inv_cell[axis];
+        return u;
+    }
     precise float u = (x - frnn_grid.origin[axis]) * frnn_grid.inv_cell[axis];
     return u;
 }
@@ -122,33 +131,43 @@ frnn_vec frnn_sorted_position(uint s) {
 
 uint frnn_original_index(uint s) { return frnn_perm[s]; }
 
-// Walks the rows of cells (fixed y[, z]) around a point; each row is one run of sorted points
-// (two when a hashed row wraps around the end of the table).
+// Walks the rows of cells (fixed y[, z]) around a point; each row is one run of sorted points,
+// two when it wraps around the end of the hash table or of a periodic axis.
 struct frnn_iterator {
     frnn_vec x;
-    frnn_ivec lo, hi;   // cell range, inclusive
-    frnn_ivec row;      // current row (x component unused)
+    frnn_ivec lo;       // first cell per axis (periodic: wrapped into [0, dims))
+    frnn_ivec span;     // cells per axis
+    frnn_ivec step;     // current row: steps taken on axes 1 (and 2); x component unused
     uint j, end;        // current run
-    uint next_begin, next_end;  // second half of a wrapped hashed run
+    uint next_begin, next_end;  // second half of a wrapped run
     bool done;
 };
 
-// Sets the run of the current row.
+// Cell coordinate of the current row on axis a (a >= 1).
+int frnn_row_cell(in frnn_iterator it, int a) {
+    const int c = it.lo[a] + it.step[a];
+    return (frnn_grid.periodic != 0u && c >= frnn_grid.dims[a]) ? c - frnn_grid.dims[a] : c;
+}
+
+// Sets the run(s) of the current row.
 void frnn_load_row(inout frnn_iterator it) {
-    frnn_ivec a = it.row, b = it.row;
+    frnn_ivec a;
+    for (int k = 1; k < FRNN_DIM; ++k) a[k] = frnn_row_cell(it, k);
     a.x = it.lo.x;
-    b.x = it.hi.x;
     const uint sa = frnn_slot_of(a);
-    const uint width = uint(it.hi.x - it.lo.x);
+    const uint width = uint(it.span.x);  // cells in the row
     it.next_begin = it.next_end = 0u;
-    if (frnn_grid.hashed != 0u && sa + width >= frnn_grid.slots) {
-        it.j = frnn_start[sa];
-        it.end = frnn_start[frnn_grid.slots];
-        it.next_begin = frnn_start[0];
-        it.next_end = frnn_start[sa + width - frnn_grid.slots + 1u];
+    // Slots of one row are consecutive; `limit` is where they wrap to 0.
+    uint first_end = sa + width, limit = frnn_grid.slots;
+    if (frnn_grid.periodic != 0u) limit = sa - uint(it.lo.x) + uint(frnn_grid.dims.x);
+    it.j = frnn_start[sa];
+    if (first_end <= limit) {
+        it.end = frnn_start[first_end];
     } else {
-        it.j = frnn_start[sa];
-        it.end = frnn_start[frnn_slot_of(b) + 1u];
+        it.end = frnn_start[limit];
+        const uint base = frnn_grid.periodic != 0u ? sa - uint(it.lo.x) : 0u;
+        it.next_begin = frnn_start[base];
+        it.next_end = frnn_start[base + (first_end - limit)];
     }
 }
 
@@ -159,11 +178,25 @@ frnn_iterator frnn_begin(frnn_vec x) {
         // The margin covers the rounding of the cell coordinates of both points, so a pair
         // within the radius is never missed (it may only widen the range by one cell).
         const float u = frnn_cell_float(x[a], a);
-        const float margin = 1e-3 + abs(u) * (1.0 / 1048576.0);
-        it.lo[a] = frnn_clamp_cell(floor(u - frnn_grid.reach - margin), a);
-        it.hi[a] = frnn_clamp_cell(floor(u + frnn_grid.reach + margin), a);
+        const float reach = frnn_grid.radius * frnn_grid.inv_cell[a];
+        const float margin = 1e-3 + (abs(u) + reach) * (1.0 / 1048576.0);
+        if (frnn_grid.periodic != 0u) {
+            const int dims = frnn_grid.dims[a];
+            const int lo = int(floor(u - reach - margin));
+            const int hi = int(floor(u + reach + margin));
+            if (hi - lo + 1 >= dims) {
+                it.lo[a] = 0;  // the whole axis, each cell once
+                it.span[a] = dims;
+            } else {
+                it.lo[a] = (lo + 8 * dims) % dims;  // lo >= -6: u >= 0, reach <= 4
+                it.span[a] = hi - lo + 1;
+            }
+        } else {
+            it.lo[a] = frnn_clamp_cell(floor(u - reach - margin), a);
+            it.span[a] = frnn_clamp_cell(floor(u + reach + margin), a) - it.lo[a] + 1;
+        }
     }
-    it.row = it.lo;
+    it.step = frnn_ivec(0);
     it.done = frnn_grid.count == 0u;
     if (!it.done) frnn_load_row(it);
     return it;
@@ -177,16 +210,20 @@ bool frnn_next(inout frnn_iterator it, out uint j, out float d2) {
             if (frnn_grid.hashed != 0u) {
                 // Other cells share the slots: keep only this row's cells in range.
                 const int cx = frnn_sorted_cell[k * FRNN_DIM];
-                if (cx < it.lo.x || cx > it.hi.x) continue;
+                if (cx < it.lo.x || cx >= it.lo.x + it.span.x) continue;
                 bool same_row = true;
                 for (int a = 1; a < FRNN_DIM; ++a)
-                    same_row = same_row && frnn_sorted_cell[k * FRNN_DIM + a] == it.row[a];
+                    same_row = same_row && frnn_sorted_cell[k * FRNN_DIM + a] == frnn_row_cell(it, a);
                 if (!same_row) continue;
             }
             // Same formula and order as frnn's CPU grid: d = x_j - x, d2 = sum of d*d.
             precise float sum = 0.0;
             for (int a = 0; a < FRNN_DIM; ++a) {
                 precise float d = frnn_sorted_pos[k * FRNN_DIM + a] - it.x[a];
+                if (frnn_grid.periodic != 0u) {
+                    const float box = frnn_grid.box[a];
+                    d = d - box * roundEven(d / box);
+                }
                 sum = sum + d * d;
             }
             if (sum <= frnn_grid.radius2) {
@@ -204,11 +241,11 @@ bool frnn_next(inout frnn_iterator it, out uint j, out float d2) {
         // Next row.
         bool advanced = false;
         for (int a = 1; a < FRNN_DIM && !advanced; ++a) {
-            if (it.row[a] < it.hi[a]) {
-                it.row[a] += 1;
+            if (it.step[a] + 1 < it.span[a]) {
+                it.step[a] += 1;
                 advanced = true;
             } else {
-                it.row[a] = it.lo[a];
+                it.step[a] = 0;
             }
         }
         if (!advanced) {

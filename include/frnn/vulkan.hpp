@@ -6,7 +6,7 @@
 // points. Queries run on the device: neighbor counts, CSR neighbor lists (count, scan, fill)
 // and the k nearest within the radius. Results equal the CPU grid's pairs exactly (same float
 // formula, `precise` arithmetic), rows in a deterministic order. Float coordinates, 2D and 3D,
-// uniform and hashed grids; periodic boxes are not supported on the device (frnn::error).
+// uniform and hashed grids, periodic boxes (minimum image, as on the CPU).
 // User shaders loop over neighbors with the GLSL include frnn/grid.glsl (see kernel).
 //
 // Neighbors: |x_i - x_j| <= r, the real radius, i != j (self only on request).

@@ -19,15 +19,16 @@ constexpr std::size_t scan_add_group = 256;
 
 enum : std::uint32_t { flag_half = 1, flag_self = 2, flag_original = 4, flag_distances = 8 };
 
-// Host mirror of frnn_grid_params in frnn/grid.glsl (std430, 80 bytes).
+// Host mirror of frnn_grid_params in frnn/grid.glsl (std430, 96 bytes).
 struct grid_params {
     float origin[4];
     float inv_cell[4];
     std::int32_t dims[4];
-    float radius, radius2, reach;
-    std::uint32_t count, hashed, mask, slots, pad;
+    float box[4];
+    float radius, radius2;
+    std::uint32_t count, hashed, mask, slots, periodic, pad;
 };
-static_assert(sizeof(grid_params) == 80);
+static_assert(sizeof(grid_params) == 96);
 
 std::size_t groups_for(std::size_t n, std::size_t per_group) { return (n + per_group - 1) / per_group; }
 
@@ -93,6 +94,7 @@ struct grid_state {
     }
 
     void configure(const grid_options& o, const float* lo, const float* hi);
+    void configure_periodic(const grid_options& o, double cell, const double* lo, const double* hi);
     void build(buffer_view coords, std::size_t count, float r, const grid_options& o);
     std::uint32_t flags(const list_options& o) const {
         std::uint32_t f = 0;
@@ -127,6 +129,15 @@ void grid_state::configure(const grid_options& o, const float* lo_in, const floa
         }
     }
     const double cell = o.cell_size > 0 ? o.cell_size : double(radius);
+    params = {};
+    for (int a = 0; a < 4; ++a) params.dims[a] = 1, params.inv_cell[a] = 1;
+    params.radius = radius;
+    params.radius2 = radius * radius;  // the CPU grid's r2, in float
+    params.count = std::uint32_t(n);
+    if (!o.periodic.empty()) {
+        configure_periodic(o, cell, lo, hi);
+        return;
+    }
     double cells = 1;
     for (int a = 0; a < dim; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
     kind = o.kind;
@@ -137,8 +148,6 @@ void grid_state::configure(const grid_options& o, const float* lo_in, const floa
         throw error("vulkan: a uniform grid over this domain would need " + std::to_string(cells) +
                     " cells, more than one storage buffer of this device holds (" +
                     std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
-    params = {};
-    for (int a = 0; a < 4; ++a) params.dims[a] = 1, params.inv_cell[a] = 1;
     for (int a = 0; a < dim; ++a) {
         params.inv_cell[a] = float(1.0 / cell);
         if (kind == grid_kind::uniform) {
@@ -152,12 +161,43 @@ void grid_state::configure(const grid_options& o, const float* lo_in, const floa
     } else {
         slots = std::bit_ceil(std::max<std::size_t>(n, 64));
     }
-    params.radius = radius;
-    params.radius2 = radius * radius;  // the CPU grid's r2, in float
-    params.reach = float(double(radius) / cell);
-    params.count = std::uint32_t(n);
     params.hashed = kind == grid_kind::hashed;
     params.mask = kind == grid_kind::hashed ? std::uint32_t(slots - 1) : 0;
+    params.slots = std::uint32_t(slots);
+}
+
+// Periodic box [0, L) per axis: a uniform grid of at least r-sized cells, L / dims each, as on
+// the CPU (very sparse boxes get fewer, larger cells).
+void grid_state::configure_periodic(const grid_options& o, double cell, const double* lo, const double* hi) {
+    if (o.periodic.size() != std::size_t(dim))
+        throw error("vulkan: periodic box needs " + std::to_string(dim) + " lengths, got " +
+                    std::to_string(o.periodic.size()));
+    double cells = 1;
+    for (int a = 0; a < dim; ++a) {
+        const double box = o.periodic[a];
+        if (!std::isfinite(box) || box < 2 * double(radius))
+            throw error("vulkan: periodic box length " + std::to_string(box) + " on axis " + std::to_string(a) +
+                        " is smaller than twice the radius (" + std::to_string(2 * double(radius)) + ")");
+        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
+            throw error("vulkan: a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
+        params.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(box / cell), 0x1p30)));
+        cells *= params.dims[a];
+    }
+    const double cap = std::max(8.0 * double(n), 4096.0);
+    if (cells > cap) {
+        const double shrink = std::pow(cells / cap, 1.0 / dim);
+        for (int a = 0; a < dim; ++a)
+            params.dims[a] = std::max<std::int32_t>(1, std::int32_t(double(params.dims[a]) / shrink));
+    }
+    kind = grid_kind::uniform;
+    slots = 1;
+    for (int a = 0; a < dim; ++a) {
+        params.box[a] = float(o.periodic[a]);
+        params.inv_cell[a] = float(double(params.dims[a]) / double(params.box[a]));
+        slots *= std::size_t(params.dims[a]);
+    }
+    params.periodic = 1;
+    params.hashed = 0;
     params.slots = std::uint32_t(slots);
 }
 
@@ -165,8 +205,6 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
     built = false;
     if (!(r > 0) || !std::isfinite(r))
         throw error("vulkan::grid::build: radius must be positive and finite, got " + std::to_string(r));
-    if (!o.periodic.empty())
-        throw error("vulkan::grid::build: periodic boxes are not supported on the device; use the CPU grid");
     if (o.cell_size != 0 && !(o.cell_size >= double(r) / 4 && o.cell_size <= double(r)))
         throw error("vulkan::grid::build: cell_size must lie in [r/4, r], got " + std::to_string(o.cell_size));
     if (count >= 0x7FFFFFFFu) throw error("vulkan::grid::build: too many points (" + std::to_string(count) + ")");

@@ -61,8 +61,10 @@ TEST_F(vulkan_api, rejects_bad_input_with_reasons) {
     pts[7 * 3 + 1] = 1.0f;
     EXPECT_NE(error_of([&] { g.build(pts, -1.0f); }).find("radius"), std::string::npos);
     grid_options periodic;
-    periodic.periodic = {5, 5, 5};
-    EXPECT_NE(error_of([&] { g.build(pts, 1.0f, periodic); }).find("periodic"), std::string::npos);
+    periodic.periodic = {5, 1.5, 5};
+    EXPECT_NE(error_of([&] { g.build(pts, 1.0f, periodic); }).find("twice the radius"), std::string::npos);
+    periodic.periodic = {5, 5};
+    EXPECT_NE(error_of([&] { g.build(pts, 1.0f, periodic); }).find("3 lengths"), std::string::npos);
     EXPECT_NE(error_of([&] { g.count_neighbors(); }).find("not built"), std::string::npos);
     grid_options uniform;
     uniform.kind = grid_kind::uniform;

@@ -26,8 +26,9 @@ class oracle_checker {
 public:
     oracle_checker(context& ctx, const std::vector<float>& pts, float radius,
                    const grid_options& options, std::string label)
-        : pts_(pts), radius_(radius), n_(pts.size() / D), g_(ctx), label_(std::move(label)) {
-        ref_ = brute_force_lists<float, D>(pts_, pts_, radius_, true);
+        : pts_(pts), radius_(radius), n_(pts.size() / D), g_(ctx), label_(std::move(label)),
+          periodic_(options.periodic) {
+        ref_ = brute_force_lists<float, D>(pts_, pts_, radius_, true, periodic_);
         g_.build(pts_, radius_, options);
         perm_ = g_.sorted_to_original();
     }
@@ -53,7 +54,7 @@ public:
         auto add = [&](std::uint32_t j, float dist) {
             const std::uint32_t out = sorted ? inv_[j] : j;
             if (o.half && out <= q && j != i) return;  // self stays with half, as on the CPU
-            const float d2 = brute_distance_squared<float, D>(&pts_[i * D], &pts_[std::size_t(j) * D]);
+            const float d2 = brute_distance_squared<float, D>(&pts_[i * D], &pts_[std::size_t(j) * D], periodic_);
             row.push_back({d2, out, dist});
         };
         if (o.self) add(std::uint32_t(i), 0.0f);
@@ -155,6 +156,7 @@ private:
     std::string label_;
     csr<float> ref_;
     std::vector<std::uint32_t> perm_, inv_;
+    std::vector<double> periodic_;
 };
 
 }  // namespace frnn::vulkan::test

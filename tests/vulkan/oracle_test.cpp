@@ -22,11 +22,12 @@ class vulkan_oracle : public vulkan_test {
 protected:
     template <int D>
     void check(const std::vector<float>& pts, float r, std::vector<grid_kind> kinds, const char* label,
-               double cell_size = 0) {
+               double cell_size = 0, std::vector<double> periodic = {}) {
         for (grid_kind kind : kinds) {
             grid_options o;
             o.kind = kind;
             o.cell_size = cell_size;
+            o.periodic = periodic;
             oracle_checker<D> c(ctx(), pts, r, o, std::string(label) + " kind=" + std::to_string(int(kind)));
             if (kind != grid_kind::automatic) {
                 EXPECT_EQ(c.device_grid().kind(), kind);
@@ -91,6 +92,32 @@ TEST_F(vulkan_oracle, clustered_and_outlier_2d) {
 TEST_F(vulkan_oracle, lattice_ties_and_collisions_2d) {
     check<2>(lattice_points<float, 2>(30, 1.0), 2.0f, all_kinds, "lattice2d r=2");
     check<2>(sparse_cells<float, 2>(400, 1.0, 60, 10), 1.0f, {grid_kind::hashed}, "sparse2d");
+}
+
+TEST_F(vulkan_oracle, periodic_3d) {
+    // Points inside the box and some outside it (wrapped by the grid); boxes of many cells and
+    // of only two or three cells per axis (every cell visited once).
+    auto pts = uniform_points<float, 3>(1200, 0, 10, 12);
+    for (std::size_t k = 0; k < 60; ++k) pts[k] += (k % 2 ? 10.0f : -20.0f);
+    check<3>(pts, 1.0f, {grid_kind::uniform}, "periodic3d", 0, {10, 10, 10});
+    check<3>(uniform_points<float, 3>(400, 0, 4, 13), 1.5f, {grid_kind::uniform}, "periodic3d small box", 0,
+             {4, 3.5, 3});
+    check<3>(lattice_points<float, 3>(6, 1.0), 2.0f, {grid_kind::uniform}, "periodic3d lattice", 0.5, {6, 6, 6});
+}
+
+TEST_F(vulkan_oracle, periodic_2d) {
+    check<2>(uniform_points<float, 2>(1000, 0, 25, 14), 1.0f, {grid_kind::uniform}, "periodic2d", 0, {25, 25});
+    check<2>(lattice_points<float, 2>(12, 1.0), 2.0f, {grid_kind::uniform}, "periodic2d lattice", 0, {12, 12});
+}
+
+TEST_F(vulkan_oracle, domain_smaller_than_the_points) {
+    // Points outside an explicit domain share its border cells and stay exact.
+    grid_options o;
+    o.kind = grid_kind::uniform;
+    o.domain_min = {2, 2, 2};
+    o.domain_max = {5, 5, 5};
+    oracle_checker<3> c(ctx(), uniform_points<float, 3>(800, 0, 8, 15), 1.0f, o, "small domain");
+    c.check_everything();
 }
 
 TEST_F(vulkan_oracle, empty_and_single_point) {
