@@ -43,8 +43,12 @@ protected:
     void SetUp() override {
         std::string why;
         ctx_ = shared_context(&why);
-        if (!ctx_) GTEST_SKIP() << "no Vulkan device: " << why;
-        validation_messages().take();
+        // Messages so far come from creating the context (the loader's, when it fails).
+        const auto early = validation_messages().take();
+        if (!ctx_) {
+            for (const auto& m : early) why += "; " + m;
+            GTEST_SKIP() << "no Vulkan device: " << why;
+        }
     }
     void TearDown() override {
         for (const auto& m : validation_messages().take()) ADD_FAILURE() << "Vulkan validation " << m;

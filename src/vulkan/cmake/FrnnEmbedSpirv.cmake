@@ -5,13 +5,19 @@
 # generated C++ file defining
 #     extern const std::uint32_t <c_name>[];  extern const std::size_t <c_name>_words;
 # in namespace frnn::spirv. Include dependencies are tracked through glslc's depfile.
-# Needs FRNN_GLSLC (the glslc executable) to be set.
+# Uses FRNN_GLSLC, the glslc executable (found on the PATH when not set).
 set(FRNN_EMBED_SPIRV_SCRIPT ${CMAKE_CURRENT_LIST_DIR}/spirv_to_cpp.cmake)
+if(NOT FRNN_GLSLC)
+  find_program(FRNN_GLSLC glslc)
+endif()
 
 function(frnn_embed_spirv target)
   cmake_parse_arguments(ARG "" "SOURCE;SYMBOL" "DEFINES;INCLUDE_DIRS" ${ARGN})
   if(NOT ARG_SOURCE OR NOT ARG_SYMBOL)
     message(FATAL_ERROR "frnn_embed_spirv: SOURCE and SYMBOL are required")
+  endif()
+  if(NOT FRNN_GLSLC)
+    message(FATAL_ERROR "frnn_embed_spirv: glslc not found (Debian package glslc)")
   endif()
   get_filename_component(source ${ARG_SOURCE} ABSOLUTE)
   set(dir ${CMAKE_CURRENT_BINARY_DIR}/spirv)
