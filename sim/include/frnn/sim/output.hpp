@@ -1,0 +1,39 @@
+// Writers of the simulation's output: VTK XML PolyData frames (.vtp, base64 binary), the
+// ParaView time series (.pvd), PNG pictures from a small software renderer, and the atomic
+// file write they all use (temp name, then rename: a reader never sees half a file).
+// Complexity O(N) per frame. Thread safety: free functions, reentrant.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "frnn/sim/scene.hpp"
+#include "frnn/sim/solver.hpp"
+
+namespace frnn::sim {
+
+/// Writes `data` to `path` through a temporary file and a rename. Throws frnn::error.
+void write_file_atomic(const std::string& path, const std::string& data);
+
+/// One frame: positions, velocity, speed, density, pressure and id, in particle-id order.
+void write_vtp(const std::string& path, const particle_view& p);
+/// The .pvd collection listing (time, file) pairs.
+void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames);
+
+/// An RGB image, row-major from the top-left.
+struct image {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+};
+/// Renders the particles as shaded splats colored by speed (blue slow, to white fast) from a
+/// fixed camera framing the scene's domain: an oblique perspective view in 3D, the xy plane in
+/// 2D. `max_speed` sets the color scale (0: from the frame).
+image render(const particle_view& p, const scene& s, double particle_radius, int width = 960, int height = 540,
+             double max_speed = 0);
+/// PNG encoding with stored (uncompressed) deflate blocks: no zlib needed.
+std::string encode_png(const image& img);
+/// Decodes the PNGs encode_png writes (stored blocks only), for tests.
+image decode_png(const std::string& data);
+
+}  // namespace frnn::sim

@@ -1,0 +1,54 @@
+// Running a scene to completion: the time loop, output frames (.vtp, .pvd, optional PNG and
+// MP4), the surge-front record, atomic checkpoints every few frames and resuming from them,
+// progress on stderr, the per-stage timing table and summary.json.
+//
+// Output directory layout: frames/frame_NNNNN.vtp, particles.pvd, summary.json,
+// checkpoint.bin, [front.csv], [png/frame_NNNNN.png], [particles.mp4].
+// Thread safety: one run per process directory; run() uses `threads` OpenMP threads.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "frnn/sim/scene.hpp"
+
+namespace frnn::sim {
+
+struct run_options {
+    std::string out_dir;         ///< empty: a new folder named after the scene and the time
+    int threads = 0;             ///< 0: all hardware threads
+    std::string trace_path;      ///< Chrome trace JSON, written at the end
+    bool png = false, video = false;
+    bool write_frames = true;    ///< .vtp frames and particles.pvd
+    bool progress = true;        ///< progress on stderr
+    bool print_table = true;     ///< the per-stage table on stdout at the end
+    std::uint64_t stop_after = 0;  ///< stop (as if interrupted) after this many steps of this run
+};
+
+struct run_result {
+    std::string out_dir;
+    std::uint64_t steps = 0;      ///< total steps of the simulation
+    std::size_t particles = 0;
+    std::size_t frames = 0;
+    double sim_time = 0, wall_seconds = 0, step_ms = 0;
+    std::vector<std::pair<std::string, double>> stage_ms;  ///< mean ms per step by stage
+    std::vector<std::pair<double, double>> front;           ///< (T, Z) when the scene records it
+    double front_deviation = -1;  ///< Martin & Moyce mean relative deviation over T in [1, 4]
+    bool finished = false;
+};
+
+/// Runs a scene given as JSON text (origin names it in messages) with command-line overrides.
+run_result run(const std::string& scene_json, const std::string& origin, const scene_overrides& overrides,
+               const run_options& options);
+/// Continues the run in `dir` from its last checkpoint, writing into the same directory.
+run_result resume(const std::string& dir, const run_options& options);
+
+/// Martin and Moyce (1952), collapse of a liquid column of width a and height 2a: (T, Z) with
+/// T = t sqrt(2 g / a) and Z = front / a.
+const std::vector<std::pair<double, double>>& martin_moyce();
+/// Mean over the reference points with T in [t_lo, t_hi] of |Z_sim - Z_ref| / Z_ref, Z_sim
+/// linearly interpolated in `front` (sorted by T). Throws when `front` does not cover them.
+double front_deviation(const std::vector<std::pair<double, double>>& front, double t_lo = 1, double t_hi = 4);
+
+}  // namespace frnn::sim

@@ -1,0 +1,58 @@
+// The particle-fluid solvers behind one interface: the viscoelastic fluid of Clavet, Beaudoin
+// and Poulin (2005) and weakly compressible SPH, in 2D and 3D, both on frnn::grid.
+//
+// Each step rebuilds the grid (rebuild() reuses its memory), permutes the particle arrays into
+// the grid's cell order (grid::reorder) and runs every neighbor loop in parallel over the
+// sorted particles. Every loop gathers into the particle it owns (Jacobi style: no scatter, no
+// atomics), in the grid's deterministic neighbor order, so results are identical, bit for bit,
+// for any thread count. Cost per step: O(N * neighbors).
+//
+// Thread safety: one solver per thread of the caller; a solver uses `threads` OpenMP threads.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+
+#include "frnn/sim/profiler.hpp"
+#include "frnn/sim/scene.hpp"
+
+namespace frnn::sim {
+
+/// Read-only view of the particles, in the solver's current (cell) order. id[i] is the
+/// particle's index at creation, so id-order output is stable across frames.
+struct particle_view {
+    int dim = 3;
+    std::size_t n = 0;
+    const float* x = nullptr;    ///< n * dim
+    const float* v = nullptr;    ///< n * dim
+    const float* rho = nullptr;  ///< density (kg/m^3 for SPH; the kernel sum for viscoelastic)
+    const float* p = nullptr;    ///< pressure (Pa for SPH; k (rho - rho0) for viscoelastic)
+    const std::uint32_t* id = nullptr;
+};
+
+class solver {
+public:
+    virtual ~solver() = default;
+    /// Advances one time step. Throws frnn::error naming the step and particle when a position
+    /// or velocity becomes non-finite.
+    virtual void step(profiler& prof) = 0;
+    virtual particle_view view() const = 0;
+    virtual double time() const = 0;
+    virtual std::uint64_t steps() const = 0;
+    virtual double last_dt() const = 0;
+    virtual double spacing() const = 0;
+    /// Interaction (kernel support) radius.
+    virtual double radius() const = 0;
+    virtual double rest_density() const = 0;
+    /// Checkpoint of the full state; load() restores it bit for bit.
+    virtual void save(std::ostream& out) const = 0;
+    virtual void load(std::istream& in) = 0;
+    virtual const scene& get_scene() const = 0;
+};
+
+/// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.
+std::unique_ptr<solver> make_solver(const scene& s, int threads = 0);
+
+}  // namespace frnn::sim

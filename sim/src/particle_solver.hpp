@@ -1,0 +1,198 @@
+// State and steps shared by the solvers: particle arrays in cell order, the grid, neighbor
+// lists, collisions, the finite-value check and checkpoint I/O.
+#pragma once
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <istream>
+#include <limits>
+#include <ostream>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "frnn/error.hpp"
+#include "frnn/grid.hpp"
+#include "frnn/sim/solver.hpp"
+#include "neighbors.hpp"
+#include "parallel.hpp"
+
+namespace frnn::sim::detail {
+
+template <class U>
+void write_vec(std::ostream& o, const std::vector<U>& v) {
+    const std::uint64_t n = v.size();
+    o.write(reinterpret_cast<const char*>(&n), sizeof n);
+    o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(n * sizeof(U)));
+}
+template <class U>
+void read_vec(std::istream& in, std::vector<U>& v, std::size_t expected) {
+    std::uint64_t n = 0;
+    in.read(reinterpret_cast<char*>(&n), sizeof n);
+    if (!in || n != expected) throw error("checkpoint: array of " + std::to_string(n) + " values, expected " + std::to_string(expected));
+    v.resize(n);
+    in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(U)));
+    if (!in) throw error("checkpoint: truncated array");
+}
+template <class U>
+void write_pod(std::ostream& o, const U& v) { o.write(reinterpret_cast<const char*>(&v), sizeof v); }
+template <class U>
+void read_pod(std::istream& in, U& v) {
+    in.read(reinterpret_cast<char*>(&v), sizeof v);
+    if (!in) throw error("checkpoint: truncated");
+}
+
+template <int D>
+class particle_solver : public solver {
+public:
+    particle_solver(const scene& s, int threads)
+        : scene_(s), threads_(threads > 0 ? threads : std::max(1, omp_get_max_threads())), colliders_(s.colliders) {
+        auto seeded = seed(s);
+        spacing_ = seeded.spacing;
+        n_ = seeded.count;
+        x_ = std::move(seeded.x);
+        v_ = std::move(seeded.v);
+        rho_.assign(n_, 0);
+        p_.assign(n_, 0);
+        id_.resize(n_);
+        for (std::size_t i = 0; i < n_; ++i) id_[i] = std::uint32_t(i);
+    }
+
+    particle_view view() const override {
+        return {D, n_, x_.data(), v_.data(), rho_.data(), p_.data(), id_.data()};
+    }
+    double time() const override { return time_; }
+    std::uint64_t steps() const override { return steps_; }
+    double last_dt() const override { return last_dt_; }
+    double spacing() const override { return spacing_; }
+    const scene& get_scene() const override { return scene_; }
+
+protected:
+    /// Builds (first call) or rebuilds the grid over x and permutes x and every extra array
+    /// (components per particle given with it) into cell order.
+    template <class... Arrays>
+    void rebuild_grid(profiler& prof, double radius, Arrays&... arrays) {
+        serial(prof, stage::grid, [&] {
+            try {
+                build_or_rebuild(radius);
+            } catch (const error&) {
+                check_finite(steps_ + 1);  // a non-finite position: say which particle
+                throw;
+            }
+            grid_.reorder(std::span<float>(x_), D);
+            grid_.reorder(std::span<float>(v_), D);
+            grid_.reorder(std::span<std::uint32_t>(id_), 1);
+            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+        });
+        neighbors_.build(grid_, prof);
+    }
+
+    void build_or_rebuild(double radius) {
+        if (!built_) {
+            grid_options o;
+            o.kind = grid_kind::uniform;
+            o.threads = threads_;
+            // A fixed domain (the scene's, padded) keeps the cell layout, and so the
+            // neighbor order, a function of the positions alone.
+            o.domain_min.resize(D);
+            o.domain_max.resize(D);
+            for (int a = 0; a < D; ++a) {
+                o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
+                o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
+            }
+            grid_.build(std::span<const float>(x_), float(radius), o);
+            built_ = true;
+        } else {
+            grid_.rebuild(std::span<const float>(x_));
+        }
+    }
+
+    /// Projects particles out of the colliders at time t and reflects their velocities.
+    void collide(profiler& prof, double t) {
+        if (colliders_.empty()) return;
+        const auto posed = colliders_.at(t);
+        const double margin = 0.5 * spacing_;
+        parallel_for(n_, threads_, prof, stage::collisions, [&](std::size_t i) {
+            vec3 x{0, 0, 0}, v{0, 0, 0};
+            for (int a = 0; a < D; ++a) x[a] = x_[i * D + a], v[a] = v_[i * D + a];
+            bool moved = false;
+            // Twice, so a particle pushed by one collider into another is resolved too.
+            for (int pass = 0; pass < 2; ++pass)
+                for (const auto& c : posed) moved |= c.resolve(x, v, margin);
+            if (moved)
+                for (int a = 0; a < D; ++a) x_[i * D + a] = float(x[a]), v_[i * D + a] = float(v[a]);
+        });
+    }
+
+    /// Throws if any position or velocity is not finite, naming the step and particle.
+    void check_finite(std::uint64_t step) const {
+        std::size_t bad = n_;
+#pragma omp parallel for num_threads(threads_) reduction(min : bad)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i)
+            for (int a = 0; a < D; ++a)
+                if (!std::isfinite(x_[std::size_t(i) * D + a]) || !std::isfinite(v_[std::size_t(i) * D + a]))
+                    bad = std::min(bad, std::size_t(i));
+        if (bad < n_) {
+            std::string what = "simulation diverged at step " + std::to_string(step) + " (t = " + std::to_string(time_) +
+                               " s): particle " + std::to_string(id_[bad]) + " has position (";
+            for (int a = 0; a < D; ++a) what += (a ? ", " : "") + std::to_string(x_[bad * D + a]);
+            what += ") and velocity (";
+            for (int a = 0; a < D; ++a) what += (a ? ", " : "") + std::to_string(v_[bad * D + a]);
+            throw error(what + "); try a smaller time step");
+        }
+    }
+
+    void save_common(std::ostream& o) const {
+        write_pod(o, std::uint32_t(D));
+        write_pod(o, time_);
+        write_pod(o, steps_);
+        write_pod(o, last_dt_);
+        write_pod(o, std::uint64_t(n_));
+        write_vec(o, x_);
+        write_vec(o, v_);
+        write_vec(o, rho_);
+        write_vec(o, p_);
+        write_vec(o, id_);
+    }
+    void load_common(std::istream& in) {
+        std::uint32_t d = 0;
+        std::uint64_t n = 0;
+        read_pod(in, d);
+        if (d != D) throw error("checkpoint: dimension " + std::to_string(d) + ", scene has " + std::to_string(D));
+        read_pod(in, time_);
+        read_pod(in, steps_);
+        read_pod(in, last_dt_);
+        read_pod(in, n);
+        if (n != n_) throw error("checkpoint: " + std::to_string(n) + " particles, scene seeds " + std::to_string(n_));
+        read_vec(in, x_, n_ * D);
+        read_vec(in, v_, n_ * D);
+        read_vec(in, rho_, n_);
+        read_vec(in, p_, n_);
+        read_vec(in, id_, n_);
+    }
+
+    float dist(std::size_t i, std::size_t j, float* r) const {
+        float d2 = 0;
+        for (int a = 0; a < D; ++a) {
+            r[a] = x_[j * D + a] - x_[i * D + a];
+            d2 += r[a] * r[a];
+        }
+        return std::sqrt(d2);
+    }
+
+    scene scene_;
+    int threads_;
+    collider_set colliders_;
+    double spacing_ = 0, time_ = 0, last_dt_ = 0;
+    std::uint64_t steps_ = 0;
+    std::size_t n_ = 0;
+    std::vector<float> x_, v_, rho_, p_;
+    std::vector<std::uint32_t> id_;
+    grid<float, D> grid_;
+    bool built_ = false;
+    neighbor_table neighbors_;
+};
+
+}  // namespace frnn::sim::detail

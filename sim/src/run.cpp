@@ -1,0 +1,389 @@
+// The run loop: steps, frames, front record, checkpoints, progress, timing table, summary.
+#include "frnn/sim/run.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "frnn/error.hpp"
+#include "frnn/sim/output.hpp"
+#include "frnn/sim/solver.hpp"
+#include "particle_solver.hpp"
+
+namespace frnn::sim {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+const std::vector<std::pair<double, double>>& martin_moyce() {
+    static const std::vector<std::pair<double, double>> ref = {{0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292},
+                                                               {2.547, 2.995}, {3.345, 4.134}, {4.034, 4.944},
+                                                               {4.418, 5.881}, {5.091, 6.980}, {5.685, 7.945}};
+    return ref;
+}
+
+double front_deviation(const std::vector<std::pair<double, double>>& front, double t_lo, double t_hi) {
+    double sum = 0;
+    int count = 0;
+    for (const auto& [T, Z] : martin_moyce()) {
+        if (T < t_lo || T > t_hi) continue;
+        if (front.empty() || front.front().first > T || front.back().first < T)
+            throw error("front record does not cover T = " + std::to_string(T));
+        std::size_t k = 1;
+        while (front[k].first < T) ++k;
+        const auto& [t0, z0] = front[k - 1];
+        const auto& [t1, z1] = front[k];
+        const double z = t1 > t0 ? z0 + (z1 - z0) * (T - t0) / (t1 - t0) : z1;
+        sum += std::abs(z - Z) / Z;
+        ++count;
+    }
+    if (count == 0) throw error("no reference point of Martin & Moyce in the T range");
+    return sum / count;
+}
+
+namespace {
+
+struct run_state {
+    std::string scene_json, origin;
+    scene_overrides ov;
+    std::vector<std::pair<double, std::string>> frames;
+    double next_frame_time = 0;
+    std::vector<std::pair<double, double>> front;
+    double next_front_T = 0;
+};
+
+json overrides_to_json(const scene_overrides& o) {
+    json j = json::object();
+    if (o.solver) j["solver"] = to_string(*o.solver);
+    if (o.dim) j["dim"] = *o.dim;
+    if (o.particles) j["particles"] = *o.particles;
+    if (o.steps) j["steps"] = *o.steps;
+    if (o.duration) j["duration"] = *o.duration;
+    if (o.every) j["every"] = *o.every;
+    return j;
+}
+scene_overrides overrides_from_json(const json& j) {
+    scene_overrides o;
+    if (j.contains("solver")) o.solver = j["solver"] == "sph" ? solver_kind::sph : solver_kind::viscoelastic;
+    if (j.contains("dim")) o.dim = j["dim"].get<int>();
+    if (j.contains("particles")) o.particles = j["particles"].get<std::size_t>();
+    if (j.contains("steps")) o.steps = j["steps"].get<std::uint64_t>();
+    if (j.contains("duration")) o.duration = j["duration"].get<double>();
+    if (j.contains("every")) o.every = j["every"].get<int>();
+    return o;
+}
+
+constexpr char magic[8] = {'F', 'R', 'N', 'N', 'S', 'I', 'M', '1'};
+
+void write_string(std::ostream& o, const std::string& s) {
+    detail::write_pod(o, std::uint64_t(s.size()));
+    o.write(s.data(), std::streamsize(s.size()));
+}
+std::string read_string(std::istream& in) {
+    std::uint64_t n = 0;
+    detail::read_pod(in, n);
+    if (n > (1u << 30)) throw error("checkpoint: corrupt string length");
+    std::string s(n, '\0');
+    in.read(s.data(), std::streamsize(n));
+    if (!in) throw error("checkpoint: truncated");
+    return s;
+}
+
+void save_checkpoint(const std::string& dir, const run_state& st, const solver& sol) {
+    std::ostringstream o(std::ios::binary);
+    o.write(magic, 8);
+    write_string(o, st.scene_json);
+    write_string(o, st.origin);
+    json meta;
+    meta["overrides"] = overrides_to_json(st.ov);
+    meta["frames"] = st.frames;
+    meta["front"] = st.front;
+    write_string(o, meta.dump());
+    detail::write_pod(o, st.next_frame_time);
+    detail::write_pod(o, st.next_front_T);
+    sol.save(o);
+    write_file_atomic(dir + "/checkpoint.bin", o.str());
+}
+
+std::string frame_name(std::size_t k, const char* ext) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "frame_%05zu.%s", k, ext);
+    return buf;
+}
+
+std::string timestamp() {
+    const std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&t, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
+    return buf;
+}
+
+/// Surge front along the probe axis, in units of a, from the particles' extent.
+double front_Z(const particle_view& p, const front_probe& f, double spacing) {
+    double m = -1e300;
+    for (std::size_t i = 0; i < p.n; ++i) m = std::max(m, double(p.x[i * std::size_t(p.dim) + std::size_t(f.axis)]));
+    return (m + spacing / 2 - f.origin) / f.a;
+}
+
+class progress_meter {
+public:
+    explicit progress_meter(bool enabled) : on_(enabled), tty_(enabled && ::isatty(2)) {}
+    void update(double frac, std::uint64_t step, double t, double wall, std::size_t frame, bool frame_written) {
+        if (!on_) return;
+        const double rate = wall > 0 ? double(step - first_step_) / wall : 0;
+        const double eta = frac > 0 ? wall * (1 - frac) / std::max(1e-9, frac - first_frac_) : 0;
+        if (tty_) {
+            if (wall - last_ < 0.1 && frac < 1) return;
+            last_ = wall;
+            const int width = 30, fill = int(std::clamp(frac, 0.0, 1.0) * width);
+            std::fprintf(stderr, "\r[%s%s] %3.0f%% step %llu  t=%.3f s  %.1f steps/s  ETA %.0f s   ",
+                         std::string(std::size_t(fill), '#').c_str(), std::string(std::size_t(width - fill), '.').c_str(),
+                         100 * frac, (unsigned long long)step, t, rate, eta);
+            if (frac >= 1) std::fprintf(stderr, "\n");
+        } else if (frame_written) {
+            std::fprintf(stderr, "frame %zu: step %llu, t = %.4f s, %.0f%%, %.1f steps/s, ETA %.0f s\n", frame,
+                         (unsigned long long)step, t, 100 * frac, rate, eta);
+        }
+    }
+    void start(std::uint64_t step, double frac) { first_step_ = step, first_frac_ = frac; }
+
+private:
+    bool on_, tty_;
+    double last_ = -1, first_frac_ = 0;
+    std::uint64_t first_step_ = 0;
+};
+
+void make_video(const std::string& dir, double fps) {
+    if (dir.find('\'') != std::string::npos) throw error("--video: the output path must not contain a quote");
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+        std::fprintf(stderr, "frnn sim: --video: ffmpeg is not installed (apt-get install ffmpeg); the PNG frames are in %s/png\n",
+                     dir.c_str());
+        return;
+    }
+    char cmd[2048];
+    std::snprintf(cmd, sizeof cmd,
+                  "ffmpeg -y -loglevel error -framerate %.3f -i '%s/png/frame_%%05d.png' -vf "
+                  "'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p '%s/particles.mp4.tmp.mp4' && mv "
+                  "'%s/particles.mp4.tmp.mp4' '%s/particles.mp4'",
+                  fps, dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
+    if (std::system(cmd) != 0) throw error("ffmpeg failed to make " + dir + "/particles.mp4");
+    std::fprintf(stderr, "video: %s/particles.mp4\n", dir.c_str());
+}
+
+run_result execute(run_state& st, solver& sol, const run_options& opt, const std::string& dir, bool resumed) {
+    const scene& sc = sol.get_scene();
+    const int threads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+    profiler prof(!opt.trace_path.empty(), threads);
+    const double g = std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
+    const double height = sc.domain_max[1] - sc.domain_min[1];
+    const double color_speed = std::max(0.5, std::sqrt(2 * std::max(g, 1e-3) * height));
+    const double frame_dt = 1 / sc.output.fps;
+    std::size_t frames_since_checkpoint = 0;
+
+    auto write_frame = [&] {
+        const double t0 = prof.now();
+        const particle_view v = sol.view();
+        const std::size_t k = st.frames.size();
+        if (opt.write_frames) {
+            write_vtp(dir + "/frames/" + frame_name(k, "vtp"), v);
+            st.frames.emplace_back(sol.time(), "frames/" + frame_name(k, "vtp"));
+            write_pvd(dir + "/particles.pvd", st.frames);
+        } else {
+            st.frames.emplace_back(sol.time(), "");
+        }
+        if (opt.png || opt.video)
+            write_file_atomic(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed)));
+        prof.add(stage::output, prof.now() - t0);
+    };
+    auto record_front = [&] {
+        if (!sc.front.enabled) return;
+        const double T = sol.time() * std::sqrt(2 * g / sc.front.a);
+        if (T + 1e-12 < st.next_front_T) return;
+        st.front.emplace_back(T, front_Z(sol.view(), sc.front, sol.spacing()));
+        while (st.next_front_T <= T + 1e-12) st.next_front_T += sc.front.every_T;
+    };
+    auto done = [&] {
+        if (sc.steps > 0) return sol.steps() >= sc.steps;
+        return sol.time() >= sc.duration * (1 - 1e-9) - 1e-12;
+    };
+    auto fraction = [&] {
+        if (sc.steps > 0) return double(sol.steps()) / double(sc.steps);
+        return sc.duration > 0 ? std::min(1.0, sol.time() / sc.duration) : 1.0;
+    };
+
+    if (!resumed) {
+        write_frame();
+        st.next_frame_time = frame_dt;
+        record_front();
+    }
+    progress_meter meter(opt.progress);
+    meter.start(sol.steps(), fraction());
+    const auto wall0 = std::chrono::steady_clock::now();
+    std::uint64_t this_run = 0;
+    bool interrupted = false;
+    while (!done()) {
+        if (opt.stop_after && this_run >= opt.stop_after) {
+            interrupted = true;
+            break;
+        }
+        sol.step(prof);
+        ++this_run;
+        bool frame_due = sc.output.every > 0 ? sol.steps() % std::uint64_t(sc.output.every) == 0
+                                              : sol.time() >= st.next_frame_time - 1e-9 * frame_dt;
+        if (done() && !frame_due && st.frames.size() > 0 && sc.output.every == 0) frame_due = true;
+        if (frame_due) {
+            if (sc.output.every == 0)
+                while (st.next_frame_time <= sol.time() + 1e-9 * frame_dt) st.next_frame_time += frame_dt;
+        }
+        record_front();
+        if (frame_due) {
+            write_frame();
+            if (++frames_since_checkpoint >= std::size_t(sc.output.checkpoint_every) && !done()) {
+                const double t0 = prof.now();
+                save_checkpoint(dir, st, sol);
+                prof.add(stage::output, prof.now() - t0);
+                frames_since_checkpoint = 0;
+            }
+        }
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+        meter.update(fraction(), sol.steps(), sol.time(), wall, st.frames.size() - 1, frame_due);
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+
+    run_result res;
+    res.out_dir = dir;
+    res.steps = sol.steps();
+    res.particles = sol.view().n;
+    res.frames = st.frames.size();
+    res.sim_time = sol.time();
+    res.wall_seconds = wall;
+    res.step_ms = prof.mean_step_ms();
+    res.front = st.front;
+    res.finished = !interrupted;
+    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
+        if (prof.total_seconds(stage(s)) > 0) res.stage_ms.emplace_back(to_string(stage(s)), prof.mean_ms(stage(s)));
+    if (interrupted) return res;
+
+    save_checkpoint(dir, st, sol);
+    json summary;
+    summary["scene"] = sc.name;
+    summary["solver"] = to_string(sc.solver);
+    summary["dim"] = sc.dim;
+    summary["particles"] = res.particles;
+    summary["steps"] = res.steps;
+    summary["steps_this_run"] = this_run;
+    summary["simulated_seconds"] = res.sim_time;
+    summary["threads"] = threads;
+    summary["spacing"] = sol.spacing();
+    summary["radius"] = sol.radius();
+    summary["rest_density"] = sol.rest_density();
+    summary["frames"] = res.frames;
+    summary["wall_seconds"] = wall;
+    summary["resumed"] = resumed;
+    json stages = json::object();
+    for (const auto& [name, ms] : res.stage_ms) stages[name] = ms;
+    summary["mean_ms_per_step"] = stages;
+    summary["step_ms_without_output"] = res.step_ms;
+    if (sc.front.enabled && !st.front.empty()) {
+        std::ostringstream csv;
+        csv.precision(6);
+        csv << "T,Z\n";
+        for (const auto& [T, Z] : st.front) csv << T << ',' << Z << '\n';
+        write_file_atomic(dir + "/front.csv", csv.str());
+        try {
+            res.front_deviation = front_deviation(st.front);
+            summary["martin_moyce_mean_relative_deviation"] = res.front_deviation;
+        } catch (const error&) {
+            summary["martin_moyce_mean_relative_deviation"] = nullptr;  // run too short for T in [1, 4]
+        }
+    }
+    write_file_atomic(dir + "/summary.json", summary.dump(2) + "\n");
+    if (!opt.trace_path.empty()) prof.write_trace(opt.trace_path);
+    if (opt.print_table) {
+        std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),
+                    res.particles, to_string(sc.solver).c_str(), sc.dim, (unsigned long long)res.steps, res.sim_time, wall,
+                    threads);
+        std::printf("%s", prof.table().c_str());
+        if (res.front_deviation >= 0)
+            std::printf("surge front vs Martin & Moyce (1952): mean relative deviation %.1f%% over T in [1, 4] (%s/front.csv)\n",
+                        100 * res.front_deviation, dir.c_str());
+        std::printf("output: %s (particles.pvd opens in ParaView)\n", dir.c_str());
+    }
+    if (opt.video) make_video(dir, sc.output.every > 0 ? 1 / (sol.last_dt() * sc.output.every) : sc.output.fps);
+    return res;
+}
+
+void prepare_dir(const std::string& dir, const run_options& opt, bool fresh) {
+    std::error_code ec;
+    fs::create_directories(dir + "/frames", ec);
+    if (ec) throw error("cannot create output folder '" + dir + "': " + ec.message());
+    if (opt.png || opt.video) fs::create_directories(dir + "/png", ec);
+    if (!fresh) return;
+    // A new run in an old folder: drop that folder's old frames (ours only) so none is stale.
+    for (const char* sub : {"frames", "png"}) {
+        if (!fs::exists(dir + "/" + sub)) continue;
+        for (const auto& e : fs::directory_iterator(dir + "/" + sub)) {
+            const std::string n = e.path().filename().string();
+            if (n.rfind("frame_", 0) == 0 && (e.path().extension() == ".vtp" || e.path().extension() == ".png")) fs::remove(e.path(), ec);
+        }
+    }
+    fs::remove(dir + "/front.csv", ec);
+    fs::remove(dir + "/checkpoint.bin", ec);
+}
+
+}  // namespace
+
+run_result run(const std::string& scene_json, const std::string& origin, const scene_overrides& overrides, const run_options& opt) {
+    run_state st{scene_json, origin, overrides, {}, 0, {}, 0};
+    scene sc = parse_scene(scene_json, origin);
+    apply(sc, overrides);
+    auto sol = make_solver(sc, opt.threads);
+    std::string dir = opt.out_dir;
+    if (dir.empty()) {
+        dir = "sim-" + sc.name + "-" + to_string(sc.solver) + "-" + std::to_string(sc.dim) + "d-" + timestamp();
+        for (int k = 2; fs::exists(dir); ++k) dir = dir.substr(0, dir.rfind("~")) + "~" + std::to_string(k);
+    }
+    prepare_dir(dir, opt, true);
+    if (opt.progress)
+        std::fprintf(stderr, "frnn sim: %s, %s %dD, %zu particles (spacing %.4g, radius %.4g) -> %s\n", sc.name.c_str(),
+                     to_string(sc.solver).c_str(), sc.dim, sol->view().n, sol->spacing(), sol->radius(), dir.c_str());
+    return execute(st, *sol, opt, dir, false);
+}
+
+run_result resume(const std::string& dir, const run_options& opt) {
+    std::ifstream in(dir + "/checkpoint.bin", std::ios::binary);
+    if (!in) throw error("--resume: no checkpoint in '" + dir + "' (expected " + dir + "/checkpoint.bin)");
+    char m[8] = {};
+    in.read(m, 8);
+    if (!in || std::string(m, 8) != std::string(magic, 8)) throw error("--resume: '" + dir + "/checkpoint.bin' is not a frnn sim checkpoint");
+    run_state st;
+    st.scene_json = read_string(in);
+    st.origin = read_string(in);
+    const json meta = json::parse(read_string(in));
+    st.ov = overrides_from_json(meta.at("overrides"));
+    st.frames = meta.at("frames").get<std::vector<std::pair<double, std::string>>>();
+    st.front = meta.at("front").get<std::vector<std::pair<double, double>>>();
+    detail::read_pod(in, st.next_frame_time);
+    detail::read_pod(in, st.next_front_T);
+    scene sc = parse_scene(st.scene_json, st.origin);
+    apply(sc, st.ov);
+    auto sol = make_solver(sc, opt.threads);
+    sol->load(in);
+    prepare_dir(dir, opt, false);
+    if (opt.write_frames && !st.frames.empty()) write_pvd(dir + "/particles.pvd", st.frames);
+    if (opt.progress)
+        std::fprintf(stderr, "frnn sim: resuming %s at step %llu (t = %.4f s, frame %zu)\n", dir.c_str(),
+                     (unsigned long long)sol->steps(), sol->time(), st.frames.size() - 1);
+    return execute(st, *sol, opt, dir, true);
+}
+
+}  // namespace frnn::sim

@@ -1,0 +1,206 @@
+// Weakly compressible SPH: density by summation (plus the walls' share, from the kernel's
+// half-space integral), Tait or linear equation of state, symmetric pressure force and
+// Monaghan's artificial viscosity with the cubic spline kernel, symplectic Euler or leapfrog
+// (kick-drift-kick) with a CFL time step.
+#include <cmath>
+#include <memory>
+
+#include "frnn/sim/kernels.hpp"
+#include "particle_solver.hpp"
+
+namespace frnn::sim {
+namespace detail {
+std::unique_ptr<solver> make_viscoelastic(const scene& s, int threads);
+namespace {
+
+template <int D>
+class sph final : public particle_solver<D> {
+    using base = particle_solver<D>;
+    using base::n_, base::x_, base::v_, base::rho_, base::p_, base::id_, base::threads_, base::neighbors_;
+
+public:
+    sph(const scene& s, int threads)
+        : base(s, threads), prm_(s.sph), h_(prm_.h_ratio * this->spacing_), w_(2 * h_), psi_(w_) {
+        acc_.assign(n_ * D, 0);
+        // Mass: an interior particle of the initial lattice has exactly the rest density.
+        const double sp = this->spacing_;
+        const int k = int(std::ceil(2 * h_ / sp));
+        double sum = 0;
+        for (int i = -k; i <= k; ++i)
+            for (int j = -k; j <= k; ++j)
+                for (int l = (D == 3 ? -k : 0); l <= (D == 3 ? k : 0); ++l) sum += w_(sp * std::sqrt(double(i * i + j * j + l * l)));
+        mass_ = prm_.rest_density / sum;
+        wall_density_ = mass_ / std::pow(sp, D);
+        if (prm_.sound_speed > 0) {
+            c0_ = prm_.sound_speed;
+        } else {
+            double lo = 1e300, hi = -1e300;
+            for (std::size_t i = 0; i < n_; ++i) lo = std::min(lo, double(x_[i * D + 1])), hi = std::max(hi, double(x_[i * D + 1]));
+            const double g = std::sqrt(s.gravity[0] * s.gravity[0] + s.gravity[1] * s.gravity[1] + s.gravity[2] * s.gravity[2]);
+            c0_ = 10 * std::sqrt(2 * std::max(g, 1e-3) * (hi - lo + sp));
+        }
+    }
+    double radius() const override { return 2 * h_; }
+    double rest_density() const override { return prm_.rest_density; }
+    double sound_speed() const { return c0_; }
+
+    void step(profiler& prof) override {
+        prof.set_step(this->steps_);
+        if (prm_.integrator == sph_params::integrator_t::leapfrog) {
+            if (!have_acc_) evaluate(prof, this->time_), have_acc_ = true;
+            const double dt = time_step();
+            kick(prof, dt / 2);
+            drift(prof, dt);
+            this->collide(prof, this->time_ + dt);
+            evaluate(prof, this->time_ + dt);
+            kick(prof, dt / 2);
+            finish(prof, dt);
+        } else {
+            evaluate(prof, this->time_);
+            const double dt = time_step();
+            kick(prof, dt);
+            drift(prof, dt);
+            this->collide(prof, this->time_ + dt);
+            finish(prof, dt);
+        }
+    }
+
+    void save(std::ostream& o) const override {
+        this->save_common(o);
+        write_vec(o, acc_);
+        write_pod(o, std::uint8_t(have_acc_));
+    }
+    void load(std::istream& in) override {
+        this->load_common(in);
+        read_vec(in, acc_, n_ * D);
+        std::uint8_t h = 0;
+        read_pod(in, h);
+        have_acc_ = h != 0;
+    }
+
+private:
+    void finish(profiler& prof, double dt) {
+        this->time_ += dt;
+        this->last_dt_ = dt;
+        ++this->steps_;
+        prof.end_step();
+        this->check_finite(this->steps_);
+    }
+
+    /// CFL condition on sound speed plus flow speed, and the force condition.
+    double time_step() const {
+        double vmax2 = 0, amax2 = 0;
+#pragma omp parallel for num_threads(threads_) reduction(max : vmax2, amax2)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i) {
+            double v2 = 0, a2 = 0;
+            for (int a = 0; a < D; ++a) {
+                v2 += double(v_[std::size_t(i) * D + a]) * v_[std::size_t(i) * D + a];
+                a2 += double(acc_[std::size_t(i) * D + a]) * acc_[std::size_t(i) * D + a];
+            }
+            vmax2 = std::max(vmax2, v2);
+            amax2 = std::max(amax2, a2);
+        }
+        double dt = std::min(prm_.max_dt, prm_.cfl * h_ / (c0_ + std::sqrt(vmax2)));
+        if (amax2 > 0) dt = std::min(dt, 0.25 * std::sqrt(h_ / std::sqrt(amax2)));
+        return dt;
+    }
+
+    void kick(profiler& prof, double dt) {
+        const float d = float(dt);
+        parallel_for(n_ * D, threads_, prof, stage::integration, [&](std::size_t k) { v_[k] += d * acc_[k]; });
+    }
+    void drift(profiler& prof, double dt) {
+        const float d = float(dt);
+        parallel_for(n_ * D, threads_, prof, stage::integration, [&](std::size_t k) { x_[k] += d * v_[k]; });
+    }
+
+    float pressure(float rho) const {
+        const double r = rho, r0 = prm_.rest_density;
+        double p = prm_.eos == sph_params::eos_t::tait ? r0 * c0_ * c0_ / prm_.gamma * (std::pow(r / r0, prm_.gamma) - 1)
+                                                       : c0_ * c0_ * (r - r0);
+        if (prm_.clamp_negative_pressure && p < 0) p = 0;
+        return float(p);
+    }
+
+    /// Grid, density and pressure, then accelerations, at the current positions.
+    void evaluate(profiler& prof, double t) {
+        this->rebuild_grid(prof, 2 * h_, acc_);
+        const auto walls = this->colliders_.at(t);
+        const bool use_walls = prm_.wall_density && !walls.empty();
+        const double R = 2 * h_;
+        parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
+            double rho = w_(0);
+            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
+                float r[D];
+                rho += w_(this->dist(i, *it, r));
+            }
+            rho *= mass_;
+            if (use_walls) {
+                vec3 x{0, 0, 0};
+                for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
+                for (const auto& c : walls) c.for_each_wall(x, R, [&](double d, const vec3&) { rho += wall_density_ * psi_(d); });
+            }
+            rho_[i] = float(rho);
+            p_[i] = pressure(float(rho));
+        });
+        const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
+        const double alpha = prm_.alpha, h = h_, c0 = c0_, m = mass_;
+        parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
+            const double pi_term = p_[i] / (double(rho_[i]) * rho_[i]);
+            double acc[D] = {};
+            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
+                const std::size_t j = *it;
+                float r[D];  // x_j - x_i
+                const double len = this->dist(i, j, r);
+                if (len <= 0 || len >= R) continue;
+                // grad_i W = dW/dr (x_i - x_j) / r = -dW/dr r / len.
+                const double dw = w_.derivative(len);
+                double f = pi_term + p_[j] / (double(rho_[j]) * rho_[j]);
+                double vr = 0;  // v_ij . x_ij
+                for (int a = 0; a < D; ++a) vr -= double(v_[i * D + a] - v_[j * D + a]) * r[a];
+                if (vr < 0 && alpha > 0) {
+                    const double mu = h * vr / (len * len + 0.01 * h * h);
+                    f += -alpha * c0 * mu / (0.5 * (double(rho_[i]) + rho_[j]));
+                }
+                // a_i = -m f grad_i W = m f dW/dr r / len.
+                const double s = m * f * dw / len;
+                for (int a = 0; a < D; ++a) acc[a] += s * r[a];
+            }
+            if (use_walls && p_[i] > 0) {
+                vec3 x{0, 0, 0};
+                for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
+                // Mirror particles behind the wall with the particle's own pressure.
+                for (const auto& c : walls)
+                    c.for_each_wall(x, R, [&](double d, const vec3& nrm) {
+                        const double s = -2 * pi_term * wall_density_ * psi_.derivative(d);
+                        for (int a = 0; a < D; ++a) acc[a] += s * nrm[a];
+                    });
+            }
+            for (int a = 0; a < D; ++a) acc_[i * D + a] = float(acc[a] + g[a]);
+        });
+    }
+
+    sph_params prm_;
+    double h_;
+    cubic_spline<D> w_;
+    half_space_integral<D> psi_;
+    double mass_ = 0, wall_density_ = 0, c0_ = 0;
+    std::vector<float> acc_;
+    bool have_acc_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<solver> make_sph(const scene& s, int threads) {
+    if (s.dim == 2) return std::make_unique<sph<2>>(s, threads);
+    return std::make_unique<sph<3>>(s, threads);
+}
+
+}  // namespace detail
+
+std::unique_ptr<solver> make_solver(const scene& s, int threads) {
+    if (s.dim != 2 && s.dim != 3) throw error("scene '" + s.name + "': dim must be 2 or 3, got " + std::to_string(s.dim));
+    return s.solver == solver_kind::sph ? detail::make_sph(s, threads) : detail::make_viscoelastic(s, threads);
+}
+
+}  // namespace frnn::sim

@@ -1,0 +1,237 @@
+// The viscoelastic fluid of Clavet, Beaudoin and Poulin (SCA 2005), made deterministic and
+// lock-free: every pairwise update of the paper (applied to i and j in turn) is gathered by
+// each particle from its own neighbor list into a separate buffer (Jacobi style).
+#include <cmath>
+#include <memory>
+
+#include "particle_solver.hpp"
+
+namespace frnn::sim {
+namespace detail {
+namespace {
+
+struct spring {
+    std::uint32_t partner;  // particle id
+    float rest;             // rest length L
+};
+
+template <int D>
+class viscoelastic final : public particle_solver<D> {
+    using base = particle_solver<D>;
+    using base::n_, base::x_, base::v_, base::rho_, base::p_, base::id_, base::threads_, base::neighbors_;
+
+public:
+    viscoelastic(const scene& s, int threads) : base(s, threads), prm_(s.viscoelastic) {
+        h_ = prm_.h_ratio * this->spacing_;
+        rho0_ = prm_.rest_density > 0 ? prm_.rest_density : lattice_density();
+        prev_.resize(n_ * D);
+        buf_.resize(n_ * D);
+        near_.resize(n_);
+        if (prm_.springs) springs_.resize(n_), slot_of_id_.resize(n_);
+    }
+    double radius() const override { return h_; }
+    double rest_density() const override { return rho0_; }
+
+    void step(profiler& prof) override {
+        prof.set_step(this->steps_);
+        const double step_dt = time_step();
+        const float dt = float(step_dt);
+        const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
+        // Gravity, then predicted positions; the grid is built on the prediction, so the
+        // relaxation sees the neighbors of the positions it corrects.
+        parallel_for(n_, threads_, prof, stage::integration, [&](std::size_t i) {
+            for (int a = 0; a < D; ++a) {
+                const std::size_t k = i * D + a;
+                v_[k] += dt * g[a];
+                prev_[k] = x_[k];
+                x_[k] += dt * v_[k];
+            }
+        });
+        this->rebuild_grid(prof, h_, prev_);
+        if (prm_.sigma > 0 || prm_.beta > 0) viscosity(prof, dt);
+        if (prm_.springs) springs(prof, dt);
+        relax(prof);
+        parallel_for(n_, threads_, prof, stage::integration, [&](std::size_t i) {
+            for (int a = 0; a < D; ++a) v_[i * D + a] = (x_[i * D + a] - prev_[i * D + a]) / dt;
+        });
+        this->collide(prof, this->time_ + step_dt);
+        this->time_ += step_dt;
+        this->last_dt_ = step_dt;
+        ++this->steps_;
+        prof.end_step();
+        this->check_finite(this->steps_);
+    }
+
+    void save(std::ostream& o) const override {
+        this->save_common(o);
+        write_vec(o, near_);
+        write_pod(o, std::uint64_t(springs_.size()));
+        for (const auto& list : springs_) write_vec(o, list);
+    }
+    void load(std::istream& in) override {
+        this->load_common(in);
+        read_vec(in, near_, n_);
+        std::uint64_t lists = 0;
+        read_pod(in, lists);
+        if (lists != springs_.size()) throw error("checkpoint: spring lists do not match the scene");
+        for (auto& list : springs_) {
+            std::uint64_t count = 0;
+            auto pos = in.tellg();
+            read_pod(in, count);
+            in.seekg(pos);
+            read_vec(in, list, count);
+        }
+    }
+
+private:
+    /// The scene's dt, shortened so no particle moves more than cfl * h in one step (the
+    /// relaxation only corrects displacements that are small against h).
+    double time_step() const {
+        if (prm_.cfl <= 0) return prm_.dt;
+        const double g2 = this->scene_.gravity[0] * this->scene_.gravity[0] + this->scene_.gravity[1] * this->scene_.gravity[1] +
+                          this->scene_.gravity[2] * this->scene_.gravity[2];
+        double vmax2 = 0;
+#pragma omp parallel for num_threads(threads_) reduction(max : vmax2)
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i) {
+            double v2 = 0;
+            for (int a = 0; a < D; ++a) v2 += double(v_[std::size_t(i) * D + a]) * v_[std::size_t(i) * D + a];
+            vmax2 = std::max(vmax2, v2);
+        }
+        const double v = std::sqrt(vmax2) + std::sqrt(g2) * prm_.dt;
+        return v > 0 ? std::min(prm_.dt, prm_.cfl * h_ / v) : prm_.dt;
+    }
+
+    /// Kernel sum (1 - q)^2 of an interior particle of the initial lattice.
+    double lattice_density() const {
+        const double s = this->spacing_;
+        const int k = int(std::ceil(h_ / s));
+        double sum = 0;
+        for (int i = -k; i <= k; ++i)
+            for (int j = -k; j <= k; ++j)
+                for (int l = (D == 3 ? -k : 0); l <= (D == 3 ? k : 0); ++l) {
+                    if (i == 0 && j == 0 && l == 0) continue;
+                    const double q = s * std::sqrt(double(i * i + j * j + l * l)) / h_;
+                    if (q < 1) sum += (1 - q) * (1 - q);
+                }
+        return sum;
+    }
+
+    /// Calls f(j, x_j - x_i, distance, q) for the neighbors j closer than h (the lists are
+    /// from the predicted positions; the positions may have moved since).
+    template <class F>
+    void for_each_close(std::size_t i, F&& f) const {
+        const float h = float(h_);
+        for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
+            float r[D];
+            const float len = this->dist(i, *it, r);
+            if (len < h && len > 0) f(std::size_t(*it), r, len, len / h);
+        }
+    }
+
+    /// Linear (sigma) and quadratic (beta) impulses on the approaching radial velocity.
+    void viscosity(profiler& prof, float dt) {
+        const float sigma = float(prm_.sigma), beta = float(prm_.beta);
+        parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
+            float dv[D] = {};
+            for_each_close(i, [&](std::size_t j, const float* r, float len, float q) {
+                float u = 0;
+                for (int a = 0; a < D; ++a) u += (v_[i * D + a] - v_[j * D + a]) * r[a] / len;
+                if (u <= 0) return;
+                const float imp = 0.5f * dt * (1 - q) * (sigma * u + beta * u * u) / len;
+                for (int a = 0; a < D; ++a) dv[a] -= imp * r[a];
+            });
+            for (int a = 0; a < D; ++a) buf_[i * D + a] = v_[i * D + a] + dv[a];
+        });
+        v_.swap(buf_);
+        parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
+            for (int a = 0; a < D; ++a) x_[i * D + a] = prev_[i * D + a] + dt * v_[i * D + a];
+        });
+    }
+
+    /// Springs between neighbors with plastic rest lengths; each particle keeps its own copy
+    /// of each spring and updates it from the same symmetric distance as its partner does.
+    void springs(profiler& prof, float dt) {
+        const float h = float(h_), gamma = float(prm_.yield_ratio), alpha = float(prm_.plasticity);
+        const float ks = float(prm_.spring_stiffness);
+        for (std::size_t i = 0; i < n_; ++i) slot_of_id_[id_[i]] = std::uint32_t(i);
+        parallel_for(n_, threads_, prof, stage::springs, [&](std::size_t i) {
+            auto& list = springs_[id_[i]];
+            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
+                float r[D];
+                const float len = this->dist(i, *it, r);
+                if (len >= h) continue;
+                const std::uint32_t pid = id_[*it];
+                bool found = false;
+                for (const auto& s : list) found |= s.partner == pid;
+                if (!found) list.push_back({pid, len});
+            }
+            std::size_t kept = 0;
+            for (auto s : list) {
+                float r[D];
+                const float len = this->dist(i, slot_of_id_[s.partner], r);
+                const float d = gamma * s.rest;
+                if (len > s.rest + d) s.rest += dt * alpha * (len - s.rest - d);
+                else if (len < s.rest - d) s.rest -= dt * alpha * (s.rest - d - len);
+                if (s.rest <= h) list[kept++] = s;
+            }
+            list.resize(kept);
+        });
+        parallel_for(n_, threads_, prof, stage::springs, [&](std::size_t i) {
+            float dx[D] = {};
+            for (const auto& s : springs_[id_[i]]) {
+                float r[D];
+                const float len = this->dist(i, slot_of_id_[s.partner], r);
+                if (len <= 0) continue;
+                const float mag = 0.5f * ks * (1 - s.rest / h) * (s.rest - len) / len;
+                for (int a = 0; a < D; ++a) dx[a] -= mag * r[a];
+            }
+            for (int a = 0; a < D; ++a) buf_[i * D + a] = x_[i * D + a] + dx[a];
+        });
+        x_.swap(buf_);
+    }
+
+    /// Double density relaxation: density and near density, then the displacements.
+    void relax(profiler& prof) {
+        const float h = float(h_), rho0 = float(rho0_);
+        const float k = float(prm_.stiffness), kn = float(prm_.near_stiffness);
+        parallel_for(n_, threads_, prof, stage::relaxation, [&](std::size_t i) {
+            float rho = 0, rhon = 0;
+            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
+                float r[D];
+                const float q = this->dist(i, *it, r) / h;
+                if (q >= 1) continue;
+                const float w = (1 - q) * (1 - q);
+                rho += w;
+                rhon += w * (1 - q);
+            }
+            rho_[i] = rho / rho0;             // relative density: 1 at rest
+            p_[i] = k * (rho - rho0) / rho0;  // pressure, in units of h per unit (1 - q)
+            near_[i] = kn * rhon / rho0;
+        });
+        parallel_for(n_, threads_, prof, stage::relaxation, [&](std::size_t i) {
+            float dx[D] = {};
+            for_each_close(i, [&](std::size_t j, const float* r, float len, float q) {
+                const float mag = 0.5f * h * ((p_[i] + p_[j]) * (1 - q) + (near_[i] + near_[j]) * (1 - q) * (1 - q)) / len;
+                for (int a = 0; a < D; ++a) dx[a] -= mag * r[a];
+            });
+            for (int a = 0; a < D; ++a) buf_[i * D + a] = x_[i * D + a] + dx[a];
+        });
+        x_.swap(buf_);
+    }
+
+    viscoelastic_params prm_;
+    double h_ = 0, rho0_ = 0;
+    std::vector<float> prev_, buf_, near_;
+    std::vector<std::vector<spring>> springs_;  // by particle id
+    std::vector<std::uint32_t> slot_of_id_;
+};
+
+}  // namespace
+
+std::unique_ptr<solver> make_viscoelastic(const scene& s, int threads) {
+    if (s.dim == 2) return std::make_unique<viscoelastic<2>>(s, threads);
+    return std::make_unique<viscoelastic<3>>(s, threads);
+}
+
+}  // namespace detail
+}  // namespace frnn::sim
