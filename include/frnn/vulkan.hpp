@@ -173,6 +173,9 @@ public:
     /// Buffers for frnn/grid.glsl, bindings 0-4: parameters, sorted positions, sorted cell
     /// coordinates, slot starts, sorted -> original map.
     std::array<buffer_view, 5> shader_buffers() const;
+    /// Value for the specialization constant frnn_kind of frnn/grid.glsl (constant_id 0):
+    /// 0 uniform, 1 hashed, 2 periodic. Optional: the default (3) reads it at run time.
+    std::uint32_t shader_kind() const;
 
     context& owner() const;
     detail::grid_state& state() const { return *state_; }
@@ -184,7 +187,8 @@ private:
 /// A user compute shader (SPIR-V) that includes frnn/grid.glsl. Set 0: bindings 0-4 are the
 /// grid's buffers, bindings 5, 6, ... the caller's buffers in order; push constants up to
 /// `push_bytes`. Dispatches of more than 65535 groups are split into rows: index invocations
-/// with frnn_invocation_index() from grid.glsl.
+/// with frnn_invocation_index() from grid.glsl. One pipeline per grid kind is created on first
+/// use, specialized so the neighbor loop has no kind branches.
 class kernel {
 public:
     kernel(context& ctx, std::span<const std::uint32_t> spirv, std::size_t user_buffers,
@@ -201,7 +205,8 @@ private:
     context* ctx_ = nullptr;
     std::size_t user_buffers_ = 0;
     std::uint32_t push_bytes_ = 0;
-    std::unique_ptr<detail::program> program_;
+    std::vector<std::uint32_t> spirv_;
+    mutable std::array<std::unique_ptr<detail::program>, 3> programs_;  // by grid kind
 };
 
 /// Convenience: neighbor lists of N*dim interleaved host coordinates (dim 2 or 3), computed on

@@ -63,11 +63,12 @@ void device_buffer::download(void* data, std::size_t bytes, std::size_t offset) 
 
 kernel::kernel(context& ctx, std::span<const std::uint32_t> spirv, std::size_t user_buffers,
                std::uint32_t push_bytes)
-    : ctx_(&ctx), user_buffers_(user_buffers), push_bytes_(push_bytes) {
+    : ctx_(&ctx), user_buffers_(user_buffers), push_bytes_(push_bytes), spirv_(spirv.begin(), spirv.end()) {
     if (spirv.empty() || spirv[0] != 0x07230203u)
         throw error("vulkan::kernel: the code is not SPIR-V (magic number missing)");
-    program_ = std::make_unique<detail::program>(ctx.impl(), spirv, std::uint32_t(5 + user_buffers),
-                                                 push_bytes, "user kernel");
+    // Compile now for the uniform grid, so a bad module fails here rather than at run().
+    programs_[0] = std::make_unique<detail::program>(ctx.impl(), spirv_, std::uint32_t(5 + user_buffers),
+                                                     push_bytes, "user kernel", detail::kind_constant::uniform);
 }
 kernel::~kernel() = default;
 kernel::kernel(kernel&&) noexcept = default;
@@ -87,8 +88,12 @@ void kernel::run(const grid<D>& g, std::span<const buffer_view> buffers, std::si
     std::vector<buffer_view> all(grid_buffers.begin(), grid_buffers.end());
     all.insert(all.end(), buffers.begin(), buffers.end());
     auto& dev = ctx_->impl();
+    auto& program = programs_[g.shader_kind()];
+    if (!program)
+        program = std::make_unique<detail::program>(dev, spirv_, std::uint32_t(5 + user_buffers_), push_bytes_,
+                                                    "user kernel", detail::kind_constant(g.shader_kind()));
     dev.begin();
-    dev.dispatch(*program_, all, push.data(), push.size(), groups);
+    dev.dispatch(*program, all, push.data(), push.size(), groups);
     dev.submit();
 }
 

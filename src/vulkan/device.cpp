@@ -153,7 +153,7 @@ void buffer::release() {
 // program
 
 program::program(device& dev, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
-                 std::uint32_t push_bytes, const char* name)
+                 std::uint32_t push_bytes, const char* name, kind_constant kind)
     : dev_(&dev), bindings_(bindings), push_bytes_(push_bytes), name_(name) {
     const VkDevice d = dev.handle();
     if (push_bytes > dev.properties().limits.maxPushConstantsSize)
@@ -182,11 +182,16 @@ program::program(device& dev, std::span<const std::uint32_t> spirv, std::uint32_
         pl.pPushConstantRanges = &range;
         FRNN_VK(vkCreatePipelineLayout(d, &pl, nullptr, &layout_));
 
+        // Shaders without the constant ignore it.
+        const std::uint32_t kind_value = std::uint32_t(kind);
+        const VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
+        const VkSpecializationInfo spec{1, &entry, sizeof(kind_value), &kind_value};
         VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
         ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
         ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         ci.stage.module = module_;
         ci.stage.pName = "main";
+        ci.stage.pSpecializationInfo = &spec;
         ci.layout = layout_;
         FRNN_VK(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_));
     } catch (...) {
@@ -390,11 +395,11 @@ std::uint32_t device::memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags
     return std::uint32_t(fallback);
 }
 
-program& device::get(shader s, int dim) {
-    auto& slot = programs_[{int(s), dim}];
+program& device::get(shader s, int dim, kind_constant kind) {
+    auto& slot = programs_[{int(s), dim, int(kind)}];
     if (!slot) {
         const embedded_shader e = embedded(s, dim);
-        slot = std::make_unique<program>(*this, e.words, e.bindings, 16, e.name);
+        slot = std::make_unique<program>(*this, e.words, e.bindings, 16, e.name, kind);
     }
     return *slot;
 }

@@ -3,6 +3,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -51,11 +52,15 @@ private:
     void* mapped_ = nullptr;
 };
 
-/// A compute pipeline whose set 0 holds `bindings` storage buffers.
+/// Value of the grid-kind specialization constant of frnn/grid.glsl (constant_id 0).
+enum class kind_constant : std::uint32_t { uniform = 0, hashed = 1, periodic = 2, runtime = 3 };
+
+/// A compute pipeline whose set 0 holds `bindings` storage buffers, with the grid-kind
+/// specialization constant set to `kind`.
 class program {
 public:
     program(device& dev, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
-            std::uint32_t push_bytes, const char* name);
+            std::uint32_t push_bytes, const char* name, kind_constant kind = kind_constant::runtime);
     ~program();
     program(const program&) = delete;
     program& operator=(const program&) = delete;
@@ -99,8 +104,8 @@ public:
     std::uint32_t memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags want,
                               VkMemoryPropertyFlags prefer) const;
 
-    /// The internal program of a shader for dimension d (created on first use).
-    program& get(shader s, int dim);
+    /// The internal program of a shader for dimension d and grid kind (created on first use).
+    program& get(shader s, int dim, kind_constant kind = kind_constant::runtime);
 
     // Recording of one submission. begin() starts it; every command is followed by a global
     // barrier so the next one sees its writes; submit() waits for completion.
@@ -142,7 +147,7 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptors_ = VK_NULL_HANDLE;
     bool recording_ = false;
-    std::map<std::pair<int, int>, std::unique_ptr<program>> programs_;
+    std::map<std::array<int, 3>, std::unique_ptr<program>> programs_;
 };
 
 }  // namespace frnn::vulkan::detail

@@ -89,6 +89,12 @@ struct grid_state {
                 start.view(0, (slots + 1) * 4), perm.view(0, std::max<std::size_t>(n * 4, 4))};
     }
 
+    // The specialization of the kind-dependent shaders (insert and the queries).
+    kind_constant kind_code() const {
+        if (params.periodic) return kind_constant::periodic;
+        return kind == grid_kind::hashed ? kind_constant::hashed : kind_constant::uniform;
+    }
+
     void check_built(const char* what) const {
         if (!built) throw error(std::string("vulkan::grid::") + what + ": the grid is not built");
     }
@@ -262,7 +268,7 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
     dev->update(params_buf.view(0, sizeof(grid_params)), &params, sizeof(grid_params));
     dev->fill(start.view(0, (slots + 1) * 4), 0u);
     if (n > 0) {
-        dev->dispatch(dev->get(shader::insert, dim),
+        dev->dispatch(dev->get(shader::insert, dim, kind_code()),
                       {params_buf.view(0, sizeof(grid_params)), pos, start.view(0, (slots + 1) * 4),
                        point_slot.view(0, n4(1)), point_rank.view(0, n4(1)), point_cell.view(0, n4(dim))},
                       nullptr, 0, groups_for(n, group_size));
@@ -289,7 +295,7 @@ std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const
     const std::uint32_t push[2] = {f, cap};
     dev->begin();
     dev->fill(counts.view(0, rows_bytes), 0u);
-    dev->dispatch(dev->get(shader::count, dim), {g[0], g[1], g[2], g[3], g[4], counts.view(0, n * 4)},
+    dev->dispatch(dev->get(shader::count, dim, kind_code()), {g[0], g[1], g[2], g[3], g[4], counts.view(0, n * 4)},
                   push, sizeof(push), groups_for(n, group_size));
     record_scan(counts.view(0, rows_bytes), n + 1, 0);
     dev->submit();
@@ -324,7 +330,7 @@ void grid_state::lists_on_device(const list_options& o, std::size_t k) {
     const std::uint32_t push[2] = {f, cap};
     dev->begin();
     if (pairs > 0) {
-        dev->dispatch(dev->get(nearest ? shader::knn : shader::fill, dim),
+        dev->dispatch(dev->get(nearest ? shader::knn : shader::fill, dim, kind_code()),
                       {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2}, push, sizeof(push),
                       groups_for(n, group_size));
         if (!nearest && o.order != row_order::none) {
@@ -420,7 +426,7 @@ std::vector<std::uint32_t> grid<D>::count_neighbors(index_space space) const {
     const auto g = s.grid_views();
     const std::uint32_t push[2] = {s.flags(o), 0xFFFFFFFFu};
     s.dev->begin();
-    s.dev->dispatch(s.dev->get(detail::shader::count, D), {g[0], g[1], g[2], g[3], g[4], s.counts.view(0, s.n * 4)},
+    s.dev->dispatch(s.dev->get(detail::shader::count, D, s.kind_code()), {g[0], g[1], g[2], g[3], g[4], s.counts.view(0, s.n * 4)},
                     push, sizeof(push), detail::groups_for(s.n, detail::group_size));
     s.dev->submit();
     s.dev->download(s.counts.view(0, s.n * 4), out.data(), s.n * 4);
@@ -459,6 +465,12 @@ typename grid<D>::device_csr grid<D>::neighbor_lists_on_device(const list_option
     out.indices = s.indices.view(0, std::max<std::size_t>(s.pairs * 4, 4));
     if (options.distances) out.distances_squared = s.dist2.view(0, std::max<std::size_t>(s.pairs * 4, 4));
     return out;
+}
+
+template <int D>
+std::uint32_t grid<D>::shader_kind() const {
+    state_->check_built("shader_kind");
+    return std::uint32_t(state_->kind_code());
 }
 
 template <int D>
