@@ -405,7 +405,11 @@ program& device::get(shader s, int dim, kind_constant kind) {
 }
 
 void device::begin() {
-    if (recording_) throw error("vulkan: internal error: nested submission");
+    // A recording abandoned by an exception is dropped (never submitted).
+    if (recording_) {
+        vkEndCommandBuffer(cmd_);
+        recording_ = false;
+    }
     FRNN_VK(vkResetDescriptorPool(device_, descriptors_, 0));
     FRNN_VK(vkResetCommandBuffer(cmd_, 0));
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};

@@ -59,6 +59,17 @@ TEST_F(vulkan_user_kernel, rejects_wrong_use) {
     grid<3> g(ctx());
     g.build(std::vector<float>{0, 0, 0, 1, 0, 0}, 1.5f);
     EXPECT_THROW(sph.run(g, std::span<const buffer_view>(), 1), frnn::error);  // one buffer missing
+    // A binding beyond the device limit fails while recording; the context stays usable.
+    device_buffer out(ctx(), 2 * sizeof(float));
+    buffer_view too_big = out.view();
+    too_big.size = ctx().info().max_storage_buffer_range + 4;
+    EXPECT_THROW(sph.run(g, std::span<const buffer_view>(&too_big, 1), 1), frnn::error);
+    const float push[2] = {1.0f, 1.5f};
+    const buffer_view ok = out.view();
+    sph.run(g, std::span<const buffer_view>(&ok, 1), 1, std::as_bytes(std::span(push)));
+    const auto rho = out.download_as<float>();
+    EXPECT_GT(rho[0], 0.0f);
+    EXPECT_EQ(rho[0], rho[1]);  // two points at distance 1: the same density
 }
 
 }  // namespace
