@@ -92,7 +92,7 @@ std::vector<U> npy_values(std::string_view bytes, std::string_view descr,
     EXPECT_EQ(h.data_offset % 64, 0u);  // numpy's alignment
     std::vector<U> v(std::size_t(h.count()));
     EXPECT_EQ(bytes.size() - h.data_offset, v.size() * sizeof(U));
-    if (bytes.size() - h.data_offset == v.size() * sizeof(U))
+    if (!v.empty() && bytes.size() - h.data_offset == v.size() * sizeof(U))
         std::memcpy(v.data(), bytes.data() + h.data_offset, v.size() * sizeof(U));
     return v;
 }
