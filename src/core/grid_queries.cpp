@@ -259,7 +259,8 @@ struct query_engine {
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
         const std::size_t parts = chunk_count(rows, threads, 2048);
         std::vector<chunk_rows<T>> chunks(parts);
-        const bool need_d2 = o.distances || k_nearest > 0;
+        const row_order order = k_nearest > 0 ? row_order::distance : o.order;
+        const bool need_d2 = o.distances || order == row_order::distance;
         for (auto& ch : chunks) ch.keep_d2 = need_d2;
         const distance_kernel<T, D> kern(g);
         const auto perm = g.sorted_to_original();
@@ -304,8 +305,7 @@ struct query_engine {
         row_mapping map;
         if (!from_queries && !sorted_space) map.row_of = perm.data();
         if (!sorted_space) map.index_of = perm.data();
-        const row_order order = k_nearest > 0 ? row_order::distance : o.order;
-        if (k_nearest > 0 && !o.distances) {
+        if (order == row_order::distance && !o.distances) {
             // Sorting by distance needs the distances; drop them afterwards.
             csr<T> out = assemble(chunks, rows, parts, threads, map, true, order);
             out.distances = {};
