@@ -1,0 +1,461 @@
+// Compares every query path of frnn::grid<T, D> with frnn::brute_force_lists.
+//
+// The reference rows come from the brute-force oracle (increasing neighbor index); the grid's
+// answer is put in the same form (rows of the traversal order `none` are sorted first) and must
+// match exactly: same pairs, same distances bit for bit (the oracle uses the grid's formula).
+// Ties of "sorted by distance" are accepted when broken by index either on the squared
+// distance or on the distance, since both are valid readings of "by distance, ties by index".
+#pragma once
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "frnn/brute_force.hpp"
+#include "frnn/grid.hpp"
+
+namespace frnn::test {
+
+template <class T>
+struct entry {
+    std::uint32_t j;
+    T dist;  ///< distance, as the oracle gives it
+    T d2;    ///< squared distance, as callbacks give it
+};
+template <class T>
+using rows_t = std::vector<std::vector<entry<T>>>;
+
+/// Oracle rows for `queries` against `data`, each sorted by neighbor index.
+template <class T, int D>
+rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> data, T radius,
+                         bool exclude_same, std::span<const double> periodic) {
+    const csr<T> lists = brute_force_lists<T, D>(queries, data, radius, exclude_same, periodic);
+    rows_t<T> rows(lists.rows());
+    for (std::size_t q = 0; q < lists.rows(); ++q) {
+        for (std::uint64_t k = lists.offsets[q]; k < lists.offsets[q + 1]; ++k) {
+            const std::uint32_t j = lists.indices[k];
+            const T d2 = brute_distance_squared<T, D>(&queries[q * D], &data[j * D], periodic);
+            rows[q].push_back({j, lists.distances[k], d2});
+        }
+    }
+    return rows;
+}
+
+/// Oracle rows of the data set against itself, renumbered into `space` and filtered by `half`
+/// and `self` as list_options define them.
+template <class T>
+rows_t<T> expected_self_rows(const rows_t<T>& ref, std::span<const std::uint32_t> perm,
+                             std::span<const std::uint32_t> inverse, const list_options& o) {
+    const bool sorted = o.space == index_space::sorted;
+    rows_t<T> out(ref.size());
+    for (std::size_t r = 0; r < ref.size(); ++r) {
+        const std::size_t src = sorted ? perm[r] : r;
+        auto& row = out[r];
+        for (const auto& e : ref[src]) {
+            const std::uint32_t j = sorted ? inverse[e.j] : e.j;
+            if (o.half && j <= r) continue;
+            row.push_back({j, e.dist, e.d2});
+        }
+        if (o.self) row.push_back({std::uint32_t(r), T(0), T(0)});
+        std::sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.j < b.j; });
+    }
+    return out;
+}
+
+/// Oracle rows of queries against the grid's points, neighbor indices in `space`.
+template <class T>
+rows_t<T> expected_query_rows(const rows_t<T>& ref, std::span<const std::uint32_t> inverse,
+                              index_space space) {
+    rows_t<T> out = ref;
+    if (space == index_space::sorted) {
+        for (auto& row : out) {
+            for (auto& e : row) e.j = inverse[e.j];
+            std::sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.j < b.j; });
+        }
+    }
+    return out;
+}
+
+/// The two accepted distance orders of an index-sorted row (ties by index).
+template <class T>
+std::vector<entry<T>> by_d2(std::vector<entry<T>> row) {
+    std::stable_sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.d2 < b.d2; });
+    return row;
+}
+template <class T>
+std::vector<entry<T>> by_dist(std::vector<entry<T>> row) {
+    std::stable_sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.dist < b.dist; });
+    return row;
+}
+
+template <class T>
+std::string describe_row(std::span<const std::uint32_t> idx, std::span<const T> dist) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "[";
+    for (std::size_t k = 0; k < idx.size() && k < 40; ++k) {
+        s << (k ? " " : "") << idx[k];
+        if (!dist.empty()) s << ":" << dist[k];
+    }
+    if (idx.size() > 40) s << " ...";
+    s << "] (" << idx.size() << " entries)";
+    return s.str();
+}
+
+/// True when `got` (indices, optional distances) equals `want` exactly.
+template <class T>
+bool row_equals(std::span<const std::uint32_t> idx, std::span<const T> dist,
+                const std::vector<entry<T>>& want) {
+    if (idx.size() != want.size()) return false;
+    for (std::size_t k = 0; k < want.size(); ++k) {
+        if (idx[k] != want[k].j) return false;
+        if (!dist.empty() && dist[k] != want[k].dist) return false;
+    }
+    return true;
+}
+
+/// Empty when `got` matches `want` under `order`, else a description of the first bad row.
+/// `k` > 0 truncates each expected distance-sorted row to k entries (nearest queries).
+template <class T>
+std::string compare_csr(const csr<T>& got, const rows_t<T>& want, bool distances,
+                        row_order order, std::size_t k = 0) {
+    const std::size_t n = want.size();
+    if (got.offsets.size() != n + 1)
+        return "offsets has " + std::to_string(got.offsets.size()) + " entries, expected " +
+               std::to_string(n + 1);
+    if (got.offsets[0] != 0) return "offsets[0] != 0";
+    if (got.offsets[n] != got.indices.size()) return "offsets.back() != indices.size()";
+    for (std::size_t r = 0; r < n; ++r)
+        if (got.offsets[r] > got.offsets[r + 1])
+            return "offsets decrease at row " + std::to_string(r);
+    if (distances && got.distances.size() != got.indices.size())
+        return "distances requested but has " + std::to_string(got.distances.size()) +
+               " values for " + std::to_string(got.indices.size()) + " indices";
+    if (!got.distances.empty() && got.distances.size() != got.indices.size())
+        return "distances and indices differ in length";
+    for (std::size_t r = 0; r < n; ++r) {
+        std::vector<std::uint32_t> idx(got.row(r).begin(), got.row(r).end());
+        std::vector<T> dist;
+        if (distances) dist.assign(got.row_distances(r).begin(), got.row_distances(r).end());
+        bool ok;
+        if (k > 0 || order == row_order::distance) {
+            auto a = by_d2(want[r]), b = by_dist(want[r]);
+            if (k > 0 && a.size() > k) a.resize(k);
+            if (k > 0 && b.size() > k) b.resize(k);
+            ok = row_equals<T>(idx, dist, a) || row_equals<T>(idx, dist, b);
+        } else {
+            if (order == row_order::none) {
+                std::vector<std::size_t> p(idx.size());
+                std::iota(p.begin(), p.end(), 0);
+                std::sort(p.begin(), p.end(), [&](auto x, auto y) { return idx[x] < idx[y]; });
+                std::vector<std::uint32_t> i2;
+                std::vector<T> d2;
+                for (auto x : p) {
+                    i2.push_back(idx[x]);
+                    if (distances) d2.push_back(dist[x]);
+                }
+                idx = std::move(i2);
+                dist = std::move(d2);
+            }
+            ok = row_equals<T>(idx, dist, want[r]);
+        }
+        if (!ok) {
+            std::vector<std::uint32_t> wi;
+            std::vector<T> wd;
+            for (auto& e : want[r]) {
+                wi.push_back(e.j);
+                wd.push_back(e.dist);
+            }
+            return "row " + std::to_string(r) + ": got " +
+                   describe_row<T>(got.row(r), distances ? std::span<const T>(got.row_distances(r))
+                                                         : std::span<const T>()) +
+                   ", oracle (by index" + (k ? ", k=" + std::to_string(k) : std::string()) +
+                   ") " + describe_row<T>(wi, wd);
+        }
+    }
+    return {};
+}
+
+/// Empty when callback results (j, d2) match the index-sorted row `want` (as a set, exactly).
+template <class T>
+std::string compare_callback(std::vector<std::pair<std::uint32_t, T>> got,
+                             const std::vector<entry<T>>& want, const std::string& where) {
+    std::sort(got.begin(), got.end());
+    bool ok = got.size() == want.size();
+    for (std::size_t k = 0; ok && k < want.size(); ++k)
+        ok = got[k].first == want[k].j && got[k].second == want[k].d2;
+    if (ok) return {};
+    std::ostringstream s;
+    s.precision(17);
+    s << where << ": callback gave " << got.size() << " neighbors, oracle " << want.size()
+      << "; got";
+    for (std::size_t k = 0; k < got.size() && k < 30; ++k)
+        s << " " << got[k].first << ":" << got[k].second;
+    s << "; oracle";
+    for (std::size_t k = 0; k < want.size() && k < 30; ++k) s << " " << want[k].j << ":" << want[k].d2;
+    return s.str();
+}
+
+inline const char* name(row_order o) {
+    return o == row_order::none ? "none" : o == row_order::index ? "index" : "distance";
+}
+inline const char* name(index_space s) { return s == index_space::original ? "original" : "sorted"; }
+
+inline std::string describe(const list_options& o) {
+    return std::string("half=") + (o.half ? "1" : "0") + " distances=" + (o.distances ? "1" : "0") +
+           " self=" + (o.self ? "1" : "0") + " order=" + name(o.order) + " space=" + name(o.space);
+}
+
+/// Structure invariants: the permutation and its inverse, the sorted copy of the points.
+template <class T, int D>
+std::string check_structure(const grid<T, D>& g, std::span<const T> coords) {
+    const std::size_t n = coords.size() / D;
+    if (g.size() != n) return "size() " + std::to_string(g.size()) + " != " + std::to_string(n);
+    const auto perm = g.sorted_to_original();
+    const auto inv = g.original_to_sorted();
+    if (perm.size() != n || inv.size() != n) return "permutation sizes differ from N";
+    std::vector<char> seen(n, 0);
+    for (std::size_t s = 0; s < n; ++s) {
+        if (perm[s] >= n || seen[perm[s]]) return "sorted_to_original is not a permutation";
+        seen[perm[s]] = 1;
+        if (inv[perm[s]] != s) return "original_to_sorted is not the inverse at " + std::to_string(s);
+        for (int a = 0; a < D; ++a)
+            if (g.sorted_coord(s, a) != coords[std::size_t(perm[s]) * D + a])
+                return "sorted_coord(" + std::to_string(s) + ") differs from the input point";
+    }
+    if (g.kind() == grid_kind::automatic) return "kind() reports automatic";
+    return {};
+}
+
+/// How much of the option space check_grid covers. `full`: every combination of list options,
+/// callbacks at every point. `basic`: every option value at least once, callbacks at every
+/// fifth point (for the many grid configurations of one set, where the traversal differs but
+/// the list options' logic does not).
+enum class depth { basic, full };
+
+/// The list options used at depth::basic: each value of each option appears at least once.
+inline std::vector<list_options> basic_list_options() {
+    auto make = [](bool half, bool dist, bool self, row_order order, index_space space) {
+        list_options o;
+        o.half = half;
+        o.distances = dist;
+        o.self = self;
+        o.order = order;
+        o.space = space;
+        return o;
+    };
+    return {make(false, true, false, row_order::none, index_space::original),
+            make(true, false, false, row_order::index, index_space::sorted),
+            make(true, true, true, row_order::distance, index_space::original),
+            make(false, true, true, row_order::index, index_space::sorted),
+            make(false, false, false, row_order::distance, index_space::sorted),
+            make(true, true, false, row_order::none, index_space::sorted)};
+}
+
+inline std::vector<list_options> all_list_options() {
+    std::vector<list_options> out;
+    for (int mask = 0; mask < 8; ++mask) {
+        for (auto order : {row_order::none, row_order::index, row_order::distance}) {
+            for (auto space : {index_space::original, index_space::sorted}) {
+                list_options o;
+                o.half = mask & 1;
+                o.distances = mask & 2;
+                o.self = mask & 4;
+                o.order = order;
+                o.space = space;
+                out.push_back(o);
+            }
+        }
+    }
+    return out;
+}
+
+/// Checks every query path of `g` (built over `coords` with `radius` and periodic box
+/// `periodic`) and every query from `queries` against the oracle. Failures are reported with
+/// ADD_FAILURE, one per path at most.
+template <class T, int D>
+void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
+                std::span<const double> periodic, std::span<const T> queries,
+                depth level = depth::full) {
+    const std::size_t n = coords.size() / D;
+    const bool full = level == depth::full;
+    const std::size_t stride = full ? 1 : 5;
+    auto fail = [](const std::string& path, const std::string& msg) {
+        if (!msg.empty()) {
+            ADD_FAILURE() << path << ": " << msg;
+        }
+        return !msg.empty();
+    };
+    if (fail("structure", check_structure<T, D>(g, coords))) return;
+    const auto perm = g.sorted_to_original();
+    const auto inv = g.original_to_sorted();
+    const rows_t<T> ref = reference_rows<T, D>(coords, coords, radius, true, periodic);
+
+    // for_each_neighbor: caller's indices, squared distances.
+    for (std::size_t i = 0; i < n; i += stride) {
+        std::vector<std::pair<std::uint32_t, T>> got;
+        g.for_each_neighbor(i, [&](std::uint32_t j, T d2) { got.emplace_back(j, d2); });
+        if (fail("for_each_neighbor", compare_callback<T>(got, ref[i], "point " + std::to_string(i))))
+            break;
+    }
+
+    // count_neighbors in both index spaces.
+    {
+        const auto c = g.count_neighbors(index_space::original);
+        const auto cs = g.count_neighbors(index_space::sorted);
+        std::string msg;
+        if (c.size() != n || cs.size() != n) msg = "wrong length";
+        for (std::size_t i = 0; msg.empty() && i < n; ++i) {
+            if (c[i] != ref[i].size())
+                msg = "original point " + std::to_string(i) + ": " + std::to_string(c[i]) +
+                      " != oracle " + std::to_string(ref[i].size());
+            else if (cs[i] != ref[perm[i]].size())
+                msg = "sorted point " + std::to_string(i) + ": " + std::to_string(cs[i]) +
+                      " != oracle " + std::to_string(ref[perm[i]].size());
+        }
+        fail("count_neighbors", msg);
+    }
+
+    // reorder/restore_order, then for_each_neighbor_sorted on the reordered arrays.
+    {
+        std::vector<T> moved(coords.begin(), coords.end());
+        g.reorder(std::span<T>(moved), D);
+        std::vector<std::uint32_t> ids(n);
+        std::iota(ids.begin(), ids.end(), 0u);
+        g.reorder(std::span<std::uint32_t>(ids));
+        std::string msg;
+        for (std::size_t s = 0; msg.empty() && s < n; ++s) {
+            if (ids[s] != perm[s]) msg = "reorder(ids)[" + std::to_string(s) + "] != sorted_to_original";
+            for (int a = 0; msg.empty() && a < D; ++a)
+                if (moved[s * D + a] != g.sorted_coord(s, a))
+                    msg = "reorder(coords) differs from sorted_coord at " + std::to_string(s);
+        }
+        g.restore_order(std::span<std::uint32_t>(ids));
+        for (std::size_t i = 0; msg.empty() && i < n; ++i)
+            if (ids[i] != i) msg = "restore_order(reorder(ids)) != ids at " + std::to_string(i);
+        fail("reorder/restore_order", msg);
+
+        list_options so;
+        so.space = index_space::sorted;
+        const rows_t<T> sref = expected_self_rows<T>(ref, perm, inv, so);
+        for (std::size_t s = 0; s < n; s += stride) {
+            std::vector<std::pair<std::uint32_t, T>> got;
+            g.for_each_neighbor_sorted(s, [&](std::uint32_t j, T d2) { got.emplace_back(j, d2); });
+            if (fail("for_each_neighbor_sorted",
+                     compare_callback<T>(got, sref[s], "sorted point " + std::to_string(s))))
+                break;
+        }
+    }
+
+    // neighbor_lists: every combination of the list options (or each value once).
+    for (const list_options& o : full ? all_list_options() : basic_list_options()) {
+        const auto want = expected_self_rows<T>(ref, perm, inv, o);
+        fail("neighbor_lists(" + describe(o) + ")",
+             compare_csr<T>(g.neighbor_lists(o), want, o.distances, o.order));
+    }
+
+    // nearest(k): at most k within r, by distance.
+    for (std::size_t k : {std::size_t(1), std::size_t(4), std::size_t(100000)}) {
+        if (!full && k != 4) continue;
+        for (auto space : {index_space::original, index_space::sorted}) {
+            for (bool dist : {false, true}) {
+                if (!full && dist == (space == index_space::sorted)) continue;
+                list_options o;
+                o.space = space;
+                o.distances = dist;
+                const auto want = expected_self_rows<T>(ref, perm, inv, o);
+                fail("nearest(" + std::to_string(k) + ", " + describe(o) + ")",
+                     compare_csr<T>(g.nearest(k, o), want, dist, row_order::distance, k));
+            }
+        }
+    }
+
+    // for_each_neighbor_of at the data points (each finds itself) and at the queries.
+    std::vector<T> all;
+    for (std::size_t i = 0; i < n; i += stride)
+        all.insert(all.end(), coords.begin() + i * D, coords.begin() + (i + 1) * D);
+    all.insert(all.end(), queries.begin(), queries.end());
+    const rows_t<T> qref = reference_rows<T, D>(all, coords, radius, false, periodic);
+    for (std::size_t q = 0; q < qref.size(); ++q) {
+        typename grid<T, D>::point x;
+        for (int a = 0; a < D; ++a) x[a] = all[q * D + a];
+        std::vector<std::pair<std::uint32_t, T>> got;
+        g.for_each_neighbor_of(x, [&](std::uint32_t j, T d2) { got.emplace_back(j, d2); });
+        if (fail("for_each_neighbor_of", compare_callback<T>(got, qref[q], "query " + std::to_string(q))))
+            break;
+    }
+
+    // query / query_counts / query_nearest from another point set.
+    const std::size_t nq = all.size() / D;
+    std::span<const T> qs(all);
+    {
+        const auto c = g.query_counts(qs);
+        std::string msg = c.size() == nq ? "" : "wrong length";
+        for (std::size_t q = 0; msg.empty() && q < nq; ++q)
+            if (c[q] != qref[q].size())
+                msg = "query " + std::to_string(q) + ": " + std::to_string(c[q]) + " != oracle " +
+                      std::to_string(qref[q].size());
+        fail("query_counts", msg);
+    }
+    for (auto space : {index_space::original, index_space::sorted}) {
+        const auto want = expected_query_rows<T>(qref, inv, space);
+        for (auto order : {row_order::none, row_order::index, row_order::distance}) {
+            for (bool dist : {false, true}) {
+                const bool orig = space == index_space::original;
+                const bool basic_combo = (orig && order == row_order::none && dist) ||
+                                         (orig && order == row_order::index && !dist) ||
+                                         (!orig && order == row_order::distance && !dist);
+                if (!full && !basic_combo) continue;
+                list_options o;
+                o.space = space;
+                o.order = order;
+                o.distances = dist;
+                fail("query(" + describe(o) + ")", compare_csr<T>(g.query(qs, o), want, dist, order));
+            }
+        }
+        for (std::size_t k : {std::size_t(1), std::size_t(5)}) {
+            if (!full && k == 1) continue;
+            list_options o;
+            o.space = space;
+            o.distances = true;
+            fail("query_nearest(" + std::to_string(k) + ", " + describe(o) + ")",
+                 compare_csr<T>(g.query_nearest(qs, k, o), want, true, row_order::distance, k));
+        }
+    }
+}
+
+/// Builds a grid and runs check_grid; a throwing build is a failure. Unless the options ask
+/// for a thread count, one thread: outputs at 2 and 4 threads are compared bit for bit with it
+/// in threads_test.cpp, and at these sizes more threads only add waiting.
+template <class T, int D>
+void check_all(const std::vector<T>& coords, T radius, grid_options opt,
+               const std::vector<T>& queries, depth level = depth::full) {
+    if (opt.threads == 0) opt.threads = 1;
+    grid<T, D> g;
+    try {
+        g.build(coords, radius, opt);
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "build threw: " << e.what();
+        return;
+    }
+    // Periodic grids are always uniform (the box bounds them); otherwise the kind asked for.
+    if (opt.kind != grid_kind::automatic && opt.periodic.empty()) {
+        EXPECT_EQ(g.kind(), opt.kind);
+    }
+    check_grid<T, D>(g, coords, radius, opt.periodic, queries, level);
+}
+
+/// Full depth for the default cell size, basic for the smaller ones.
+inline depth depth_for_cell(double fraction) { return fraction == 1.0 ? depth::full : depth::basic; }
+
+inline std::string kind_name(grid_kind k) {
+    return k == grid_kind::automatic ? "auto" : k == grid_kind::uniform ? "uniform" : "hashed";
+}
+
+}  // namespace frnn::test

@@ -1,0 +1,115 @@
+// Periodic boxes: minimum-image distances, each pair found once per direction, for boxes of
+// exactly 2r, non-multiples of the cell size, anisotropic boxes, and exact lattice distances.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "oracle/oracle_check.hpp"
+#include "oracle/point_sets.hpp"
+
+namespace frnn::test {
+namespace {
+
+/// Uniform points in the box [0, L) per axis (values that round up to L are moved just below).
+template <class T, int D>
+std::vector<T> in_box(std::size_t n, const std::vector<double>& box, std::uint64_t seed) {
+    auto pts = uniform_points<T, D>(n, 0, 1, seed);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const T len = T(box[i % D]);
+        pts[i] = T(double(pts[i]) * box[i % D]);
+        if (pts[i] >= len) pts[i] = std::nextafter(len, T(0));
+    }
+    return pts;
+}
+
+template <class T, int D>
+void periodic_case(const std::vector<double>& box_in_r, T r, std::size_t n, std::uint64_t seed) {
+    std::vector<double> box;
+    for (int a = 0; a < D; ++a) box.push_back(box_in_r[a] * double(r));
+    const auto pts = in_box<T, D>(n, box, seed);
+    const auto queries = query_points<T, D>(pts, r, 80, box, seed + 1);
+    // Periodic grids are uniform whatever the kind asked for, so one kind per cell size.
+    for (auto kind : {grid_kind::automatic, grid_kind::hashed}) {
+        for (double f : {1.0, 0.5, 1.0 / 3, 0.25}) {
+            if (kind == grid_kind::hashed && f != 0.5) continue;
+            grid_options opt;
+            opt.kind = kind;
+            opt.cell_size = double(r) * f;
+            opt.periodic = box;
+            SCOPED_TRACE("kind=" + kind_name(kind) + " cell=r*" + std::to_string(f));
+            check_all<T, D>(pts, r, opt, queries, depth_for_cell(f));
+        }
+    }
+}
+
+std::string box_name(const std::vector<double>& b) {
+    std::string s;
+    for (double v : b) s += std::to_string(v) + "r ";
+    return s;
+}
+
+// Box exactly 2r: stencils wrap onto the same cells from both sides; each pair once.
+TEST(OraclePeriodic, BoxExactlyTwoRadii2D) { periodic_case<double, 2>({2, 2}, 1.0, 300, 61); }
+TEST(OraclePeriodic, BoxExactlyTwoRadii3D) { periodic_case<float, 3>({2, 2, 2}, 0.5f, 300, 62); }
+
+TEST(OraclePeriodic, BoxesNotMultiplesOfTheCell) {
+    const std::vector<std::vector<double>> boxes = {{2.5, 3.7, 2.0}, {3, 3, 3}, {7.3, 5.1, 10}};
+    for (const auto& b : boxes) {
+        SCOPED_TRACE("box " + box_name(b));
+        periodic_case<double, 3>(b, 1.0, 400, 63);
+        periodic_case<float, 2>(b, 0.75f, 300, 64);
+    }
+}
+
+TEST(OraclePeriodic, LargeBoxSparse) { periodic_case<double, 2>({23.3, 17}, 0.5, 800, 65); }
+
+// Integer lattices in integer boxes with integer radius: every distance is exact, pairs at
+// exactly r across the faces (and at exactly L/2 when L == 2r) must be found once.
+template <class T, int D>
+void lattice_case(double box_len, double radius) {
+    const int side = int(box_len);
+    const auto pts = lattice_points<T, D>(side, 1.0);
+    std::vector<double> box(D, box_len);
+    const auto queries = lattice_points<T, D>(side, 1.0, 0.5);  // cell-centre points
+    for (auto kind : {grid_kind::automatic, grid_kind::hashed}) {
+        for (double f : {1.0, 0.5, 0.25}) {
+            if (kind == grid_kind::hashed && f != 0.25) continue;
+            grid_options opt;
+            opt.kind = kind;
+            opt.cell_size = radius * f;
+            opt.periodic = box;
+            SCOPED_TRACE("L=" + std::to_string(box_len) + " r=" + std::to_string(radius) +
+                         " kind=" + kind_name(kind) + " cell=r*" + std::to_string(f));
+            check_all<T, D>(pts, T(radius), opt, queries, depth_for_cell(f));
+        }
+    }
+}
+
+TEST(OraclePeriodic, LatticeExactDistances) {
+    lattice_case<double, 2>(4, 2);  // L == 2r exactly
+    lattice_case<double, 2>(5, 2);
+    lattice_case<float, 2>(9, 3);
+    lattice_case<float, 3>(4, 2);
+    lattice_case<double, 3>(7, 3);
+    lattice_case<double, 3>(9, 2);
+}
+
+// Every point's number of neighbors on a periodic lattice is the same (translation invariance):
+// a physics check independent of the oracle.
+TEST(OraclePeriodic, LatticeCountsAreUniform) {
+    const auto pts = lattice_points<double, 3>(6, 1.0);
+    grid_options opt;
+    opt.periodic = {6, 6, 6};
+    grid<double, 3> g(pts, 2.0, opt);
+    const auto c = g.count_neighbors();
+    // Minimum images of a 6-periodic lattice: offsets in [-3, 2]^3 with |v| <= 2, v != 0.
+    std::uint32_t expected = 0;
+    for (int x = -3; x <= 2; ++x)
+        for (int y = -3; y <= 2; ++y)
+            for (int z = -3; z <= 2; ++z) expected += (x * x + y * y + z * z <= 4) ? 1 : 0;
+    expected -= 1;
+    for (std::size_t i = 0; i < c.size(); ++i) ASSERT_EQ(c[i], expected) << "point " << i;
+}
+
+}  // namespace
+}  // namespace frnn::test
