@@ -161,6 +161,13 @@ public:
     /// At most k nearest neighbors within r of every point, sorted by distance (ties by index).
     csr<float> nearest(std::size_t k, const list_options& options = {}) const;
 
+    /// Points of this grid within r of each query point (N_q*D interleaved host values): row q
+    /// holds grid indices (`space` numbers them; `half` and `self` do not apply).
+    csr<float> query(std::span<const float> queries, const list_options& options = {}) const;
+    std::vector<std::uint32_t> query_counts(std::span<const float> queries) const;
+    csr<float> query_nearest(std::span<const float> queries, std::size_t k,
+                             const list_options& options = {}) const;
+
     /// Neighbor lists left on the device: uint32 offsets (rows + 1), uint32 indices and, when
     /// options.distances, float squared distances. Owned by the grid, valid until its next
     /// query or build.

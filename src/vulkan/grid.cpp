@@ -17,7 +17,7 @@ constexpr std::size_t group_size = 128;  // FRNN_GROUP_SIZE of the shaders
 constexpr std::size_t scan_block = 1024;  // values scanned by one workgroup
 constexpr std::size_t scan_add_group = 256;
 
-enum : std::uint32_t { flag_half = 1, flag_self = 2, flag_original = 4, flag_distances = 8 };
+enum : std::uint32_t { flag_half = 1, flag_self = 2, flag_original = 4, flag_distances = 8, flag_external = 16 };
 
 // Host mirror of frnn_grid_params in frnn/grid.glsl (std430, 96 bytes).
 struct grid_params {
@@ -45,7 +45,7 @@ struct grid_state {
 
     buffer params_buf, own_pos, sorted_pos, sorted_cell, start, perm, inverse;
     buffer point_slot, point_rank, point_cell, tmp, scan_scratch, box;
-    buffer counts, indices, dist2, dummy;
+    buffer counts, indices, dist2, dummy, query_pos;
     buffer_view pos;  // the input coordinates (own_pos or the caller's buffer)
 
     // Grows (never shrinks) a scratch buffer so rebuilds and repeated queries reuse memory.
@@ -110,10 +110,24 @@ struct grid_state {
         return f;
     }
     // Counts (capped) into `counts`, scans them; returns the total number of pairs.
-    std::size_t count_and_scan(std::uint32_t flags, std::uint32_t cap, const char* what);
-    void lists_on_device(const list_options& o, std::size_t k);
+    // The rows of a query: the grid's own points, or external query points.
+    struct row_source {
+        std::size_t rows;
+        buffer_view queries;  // rows * dim floats when external
+        bool external;
+    };
+    row_source own_rows() {
+        ensure(dummy, 16, "unused binding");
+        return {n, dummy.view(0, 16), false};
+    }
+    row_source upload_queries(std::span<const float> q, const char* what);
+    // Counts (capped) into `counts`: one dispatch, recorded.
+    void record_count(std::uint32_t flags, std::uint32_t cap, const row_source& src);
+    // Counts (capped) into `counts`, scans them; returns the total number of pairs.
+    std::size_t count_and_scan(std::uint32_t flags, std::uint32_t cap, const char* what, const row_source& src);
+    void lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what);
     csr<float> download_lists(bool distances);
-    std::size_t pairs = 0;
+    std::size_t pairs = 0, rows = 0;
 };
 
 // Chooses the grid like the CPU grid does: uniform over the bounding box (or the domain) when
@@ -287,57 +301,82 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
     built = true;
 }
 
-std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const char* what) {
-    const std::size_t rows_bytes = (n + 1) * 4;
-    ensure(counts, rows_bytes, "neighbor counts");
-    ensure(scan_scratch, scan_scratch_bytes(n + 1), "scan scratch");
+grid_state::row_source grid_state::upload_queries(std::span<const float> q, const char* what) {
+    if (q.size() % dim != 0)
+        throw error(std::string("vulkan::grid::") + what + ": " + std::to_string(q.size()) +
+                    " query coordinates is not a multiple of " + std::to_string(dim));
+    const std::size_t count = q.size() / dim;
+    if (count >= 0x7FFFFFFFu) throw error(std::string("vulkan::grid::") + what + ": too many query points");
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        if (!std::isfinite(q[i]))
+            throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
+                        " has a non-finite coordinate (axis " + std::to_string(i % dim) + ")");
+        if (params.periodic && std::abs(double(q[i])) >= double(params.box[i % dim]) * 0x1p30)
+            throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
+                        " lies more than 2^30 periodic boxes away on axis " + std::to_string(i % dim));
+    }
+    ensure(query_pos, std::max<std::size_t>(q.size() * 4, 4), "query points");
+    dev->upload(query_pos.view(), q.data(), q.size() * 4);
+    return {count, query_pos.view(0, std::max<std::size_t>(q.size() * 4, 4)), true};
+}
+
+void grid_state::record_count(std::uint32_t f, std::uint32_t cap, const row_source& src) {
     const auto g = grid_views();
-    const std::uint32_t push[2] = {f, cap};
+    const std::uint32_t push[3] = {f | (src.external ? flag_external : 0u), cap, std::uint32_t(src.rows)};
+    dev->dispatch(dev->get(shader::count, dim, kind_code()),
+                  {g[0], g[1], g[2], g[3], g[4], counts.view(0, src.rows * 4), src.queries}, push, sizeof(push),
+                  groups_for(src.rows, group_size));
+}
+
+std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const char* what, const row_source& src) {
+    rows = src.rows;
+    const std::size_t rows_bytes = (rows + 1) * 4;
+    ensure(counts, rows_bytes, "neighbor counts");
+    ensure(scan_scratch, scan_scratch_bytes(rows + 1), "scan scratch");
     dev->begin();
     dev->fill(counts.view(0, rows_bytes), 0u);
-    dev->dispatch(dev->get(shader::count, dim, kind_code()), {g[0], g[1], g[2], g[3], g[4], counts.view(0, n * 4)},
-                  push, sizeof(push), groups_for(n, group_size));
-    record_scan(counts.view(0, rows_bytes), n + 1, 0);
+    record_count(f, cap, src);
+    record_scan(counts.view(0, rows_bytes), rows + 1, 0);
     dev->submit();
     std::uint32_t total = 0;
-    dev->download(counts.view(n * 4, 4), &total, 4);
+    dev->download(counts.view(rows * 4, 4), &total, 4);
     if (total == 0xFFFFFFFFu)
         throw error(std::string("vulkan::grid::") + what + ": 2^32 or more pairs; query fewer points");
     return total;
 }
 
 // Counts, scans and fills the rows on the device (k > 0: k nearest).
-void grid_state::lists_on_device(const list_options& o, std::size_t k) {
+void grid_state::lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what) {
     const bool nearest = k > 0;
     const bool need_d2 = o.distances || nearest || o.order == row_order::distance;
     std::uint32_t f = flags(o);
     if (need_d2) f |= flag_distances;
+    if (src.external) f |= flag_external;
     const std::uint32_t cap = nearest ? std::uint32_t(std::min<std::size_t>(k, 0xFFFFFFFFu)) : 0xFFFFFFFFu;
-    pairs = count_and_scan(f, cap, nearest ? "nearest" : "neighbor_lists");
+    pairs = count_and_scan(f, cap, what, src);
     const std::size_t limit = dev->properties().limits.maxStorageBufferRange;
     if (pairs * 4 > limit)
-        throw error("vulkan::grid::" + std::string(nearest ? "nearest" : "neighbor_lists") + ": " +
-                    std::to_string(pairs) + " pairs need " + std::to_string(pairs * 4) +
+        throw error(std::string("vulkan::grid::") + what + ": " + std::to_string(pairs) + " pairs need " +
+                    std::to_string(pairs * 4) +
                     " bytes per array, more than this device's maxStorageBufferRange of " +
                     std::to_string(limit) + " bytes; query fewer points or a smaller radius");
     ensure(indices, pairs * 4, "neighbor indices");
-    ensure(dummy, 16, "unused binding");
     if (need_d2) ensure(dist2, pairs * 4, "neighbor distances");
     const auto g = grid_views();
-    const buffer_view offsets = counts.view(0, (n + 1) * 4);
+    const buffer_view offsets = counts.view(0, (rows + 1) * 4);
     const buffer_view idx = indices.view(0, std::max<std::size_t>(pairs * 4, 4));
     const buffer_view d2 = need_d2 ? dist2.view(0, std::max<std::size_t>(pairs * 4, 4)) : dummy.view(0, 16);
-    const std::uint32_t push[2] = {f, cap};
+    const std::uint32_t push[3] = {f, cap, std::uint32_t(rows)};
     dev->begin();
     if (pairs > 0) {
         dev->dispatch(dev->get(nearest ? shader::knn : shader::fill, dim, kind_code()),
-                      {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2}, push, sizeof(push),
-                      groups_for(n, group_size));
+                      {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2, src.queries}, push, sizeof(push),
+                      groups_for(rows, group_size));
         if (!nearest && o.order != row_order::none) {
-            const std::uint32_t sp[3] = {std::uint32_t(n), o.order == row_order::distance ? 2u : 1u,
+            const std::uint32_t sp[3] = {std::uint32_t(rows), o.order == row_order::distance ? 2u : 1u,
                                          need_d2 ? 1u : 0u};
             dev->dispatch(dev->get(shader::sort_rows, dim), {offsets, idx, d2}, sp, sizeof(sp),
-                          groups_for(n, group_size));
+                          groups_for(rows, group_size));
         }
     }
     dev->submit();
@@ -345,8 +384,8 @@ void grid_state::lists_on_device(const list_options& o, std::size_t k) {
 
 csr<float> grid_state::download_lists(bool distances) {
     csr<float> out;
-    std::vector<std::uint32_t> off(n + 1);
-    dev->download(counts.view(0, (n + 1) * 4), off.data(), (n + 1) * 4);
+    std::vector<std::uint32_t> off(rows + 1);
+    dev->download(counts.view(0, (rows + 1) * 4), off.data(), (rows + 1) * 4);
     out.offsets.assign(off.begin(), off.end());
     out.indices.resize(pairs);
     dev->download(indices.view(0, pairs * 4), out.indices.data(), pairs * 4);
@@ -423,11 +462,8 @@ std::vector<std::uint32_t> grid<D>::count_neighbors(index_space space) const {
     list_options o;
     o.space = space;
     s.ensure(s.counts, (s.n + 1) * 4, "neighbor counts");
-    const auto g = s.grid_views();
-    const std::uint32_t push[2] = {s.flags(o), 0xFFFFFFFFu};
     s.dev->begin();
-    s.dev->dispatch(s.dev->get(detail::shader::count, D, s.kind_code()), {g[0], g[1], g[2], g[3], g[4], s.counts.view(0, s.n * 4)},
-                    push, sizeof(push), detail::groups_for(s.n, detail::group_size));
+    s.record_count(s.flags(o), 0xFFFFFFFFu, s.own_rows());
     s.dev->submit();
     s.dev->download(s.counts.view(0, s.n * 4), out.data(), s.n * 4);
     return out;
@@ -438,7 +474,7 @@ csr<float> grid<D>::neighbor_lists(const list_options& options) const {
     auto& s = *state_;
     s.check_built("neighbor_lists");
     if (s.n == 0) return {};
-    s.lists_on_device(options, 0);
+    s.lists_on_device(options, 0, s.own_rows(), "neighbor_lists");
     return s.download_lists(options.distances);
 }
 
@@ -448,8 +484,65 @@ csr<float> grid<D>::nearest(std::size_t k, const list_options& options) const {
     s.check_built("nearest");
     if (k == 0) throw error("vulkan::grid::nearest: k must be at least 1");
     if (s.n == 0) return {};
-    s.lists_on_device(options, k);
+    s.lists_on_device(options, k, s.own_rows(), "nearest");
     return s.download_lists(options.distances);
+}
+
+// Queries from other points: `half` and `self` do not apply (as on the CPU).
+namespace {
+list_options for_queries(list_options o) {
+    o.half = false;
+    o.self = false;
+    return o;
+}
+}  // namespace
+
+template <int D>
+std::vector<std::uint32_t> grid<D>::query_counts(std::span<const float> queries) const {
+    auto& s = *state_;
+    s.check_built("query_counts");
+    const auto src = s.upload_queries(queries, "query_counts");
+    std::vector<std::uint32_t> out(src.rows);
+    if (src.rows == 0 || s.n == 0) return out;
+    s.ensure(s.counts, (src.rows + 1) * 4, "neighbor counts");
+    s.dev->begin();
+    s.record_count(s.flags(list_options{}), 0xFFFFFFFFu, src);
+    s.dev->submit();
+    s.dev->download(s.counts.view(0, src.rows * 4), out.data(), src.rows * 4);
+    return out;
+}
+
+template <int D>
+csr<float> grid<D>::query(std::span<const float> queries, const list_options& options) const {
+    auto& s = *state_;
+    s.check_built("query");
+    const auto src = s.upload_queries(queries, "query");
+    if (src.rows == 0) return {};
+    if (s.n == 0) {
+        csr<float> empty;
+        empty.offsets.assign(src.rows + 1, 0);
+        return empty;
+    }
+    const list_options o = for_queries(options);
+    s.lists_on_device(o, 0, src, "query");
+    return s.download_lists(o.distances);
+}
+
+template <int D>
+csr<float> grid<D>::query_nearest(std::span<const float> queries, std::size_t k, const list_options& options) const {
+    auto& s = *state_;
+    s.check_built("query_nearest");
+    if (k == 0) throw error("vulkan::grid::query_nearest: k must be at least 1");
+    const auto src = s.upload_queries(queries, "query_nearest");
+    if (src.rows == 0) return {};
+    if (s.n == 0) {
+        csr<float> empty;
+        empty.offsets.assign(src.rows + 1, 0);
+        return empty;
+    }
+    const list_options o = for_queries(options);
+    s.lists_on_device(o, k, src, "query_nearest");
+    return s.download_lists(o.distances);
 }
 
 template <int D>
@@ -459,7 +552,7 @@ typename grid<D>::device_csr grid<D>::neighbor_lists_on_device(const list_option
     device_csr out;
     out.rows = s.n;
     if (s.n == 0) return out;
-    s.lists_on_device(options, 0);
+    s.lists_on_device(options, 0, s.own_rows(), "neighbor_lists_on_device");
     out.pairs = s.pairs;
     out.offsets = s.counts.view(0, (s.n + 1) * 4);
     out.indices = s.indices.view(0, std::max<std::size_t>(s.pairs * 4, 4));

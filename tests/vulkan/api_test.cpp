@@ -73,6 +73,9 @@ TEST_F(vulkan_api, rejects_bad_input_with_reasons) {
     g.build(pts, 1.0f);  // automatic: hashed
     EXPECT_EQ(g.kind(), grid_kind::hashed);
     EXPECT_NE(error_of([&] { g.nearest(0); }).find("k must"), std::string::npos);
+    const std::vector<float> bad_query{0, 0, 0, 1, std::numeric_limits<float>::quiet_NaN(), 1};
+    EXPECT_NE(error_of([&] { g.query(bad_query); }).find("query point 1"), std::string::npos);
+    EXPECT_NE(error_of([&] { g.query_counts(std::vector<float>{1, 2}); }).find("multiple of 3"), std::string::npos);
     EXPECT_NE(error_of([&] { neighbor_lists(ctx(), pts, 4, 1.0f); }).find("dimension"), std::string::npos);
 }
 

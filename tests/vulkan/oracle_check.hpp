@@ -135,6 +135,55 @@ public:
         }
     }
 
+    // Queries from other points against brute_force_lists(queries, data).
+    void check_queries(const std::vector<float>& queries) {
+        check_permutation();
+        if (::testing::Test::HasFatalFailure()) return;
+        const std::size_t nq = queries.size() / D;
+        const auto ref = brute_force_lists<float, D>(queries, pts_, radius_, false, periodic_);
+        const auto counts = g_.query_counts(queries);
+        ASSERT_EQ(counts.size(), nq) << label_;
+        for (std::size_t q = 0; q < nq; ++q)
+            ASSERT_EQ(counts[q], ref.offsets[q + 1] - ref.offsets[q]) << label_ << " query " << q;
+        for (auto space : {index_space::original, index_space::sorted})
+            for (auto order : {row_order::none, row_order::index, row_order::distance})
+                for (std::size_t k : {std::size_t(0), std::size_t(3)}) {
+                    list_options o;
+                    o.space = space;
+                    o.order = order;
+                    o.distances = true;
+                    o.half = true;  // ignored for queries, as on the CPU
+                    const csr<float> got = k ? g_.query_nearest(queries, k, o) : g_.query(queries, o);
+                    const std::string what = label_ + " queries sorted=" + std::to_string(space == index_space::sorted) +
+                                             " order=" + std::to_string(int(order)) + " k=" + std::to_string(k);
+                    ASSERT_EQ(got.rows(), nq) << what;
+                    for (std::size_t q = 0; q < nq; ++q) {
+                        std::vector<entry> want;
+                        for (auto e = ref.offsets[q]; e < ref.offsets[q + 1]; ++e) {
+                            const std::uint32_t j = ref.indices[e];
+                            const float d2 = brute_distance_squared<float, D>(&queries[q * D], &pts_[std::size_t(j) * D], periodic_);
+                            want.push_back({d2, space == index_space::sorted ? inv_[j] : j, ref.distances[e]});
+                        }
+                        const bool by_distance = k > 0 || order == row_order::distance;
+                        std::sort(want.begin(), want.end(), [&](const entry& a, const entry& b) {
+                            if (by_distance && a.d2 != b.d2) return a.d2 < b.d2;
+                            return a.index < b.index;
+                        });
+                        if (k && want.size() > k) want.resize(k);
+                        std::vector<entry> have;
+                        for (auto e = got.offsets[q]; e < got.offsets[q + 1]; ++e)
+                            have.push_back({0, got.indices[e], got.distances[e]});
+                        if (!k && order == row_order::none)
+                            std::sort(have.begin(), have.end(), [](auto& a, auto& b) { return a.index < b.index; });
+                        ASSERT_EQ(have.size(), want.size()) << what << " query " << q;
+                        for (std::size_t e = 0; e < want.size(); ++e) {
+                            ASSERT_EQ(have[e].index, want[e].index) << what << " query " << q;
+                            ASSERT_EQ(have[e].distance, want[e].distance) << what << " query " << q;
+                        }
+                    }
+                }
+    }
+
     void check_everything() {
         check_counts();
         if (::testing::Test::HasFatalFailure()) return;

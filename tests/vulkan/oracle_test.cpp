@@ -120,6 +120,32 @@ TEST_F(vulkan_oracle, domain_smaller_than_the_points) {
     c.check_everything();
 }
 
+TEST_F(vulkan_oracle, queries_from_other_points) {
+    // Query points over the data's bounding box grown by 2r, plus one far point.
+    const auto data3 = clustered_points<float, 3>(1000, 5, 1.0, 0, 20, 16);
+    const auto q3 = frnn::test::query_points<float, 3>(data3, 1.0, 300, {}, 17);
+    for (grid_kind kind : all_kinds) {
+        grid_options o;
+        o.kind = kind;
+        oracle_checker<3>(ctx(), data3, 1.0f, o, "queries3d kind=" + std::to_string(int(kind))).check_queries(q3);
+        if (HasFatalFailure()) return;
+    }
+    grid_options periodic;
+    periodic.periodic = {20, 20, 20};
+    const auto qp = frnn::test::query_points<float, 3>(data3, 1.0, 300, periodic.periodic, 18);
+    oracle_checker<3>(ctx(), data3, 1.0f, periodic, "queries3d periodic").check_queries(qp);
+    const auto data2 = uniform_points<float, 2>(800, 0, 20, 19);
+    const auto q2 = frnn::test::query_points<float, 2>(data2, 1.5, 200, {}, 20);
+    oracle_checker<2>(ctx(), data2, 1.5f, grid_options{}, "queries2d").check_queries(q2);
+    // An empty grid answers empty rows; an empty query set, no rows.
+    grid<3> empty(ctx());
+    empty.build(std::span<const float>(), 1.0f);
+    EXPECT_EQ(empty.query(q3).rows(), q3.size() / 3);
+    EXPECT_EQ(empty.query(q3).size(), 0u);
+    EXPECT_EQ(empty.query_counts(q3), std::vector<std::uint32_t>(q3.size() / 3, 0));
+    EXPECT_EQ(empty.query_nearest(std::span<const float>(), 2).rows(), 0u);
+}
+
 TEST_F(vulkan_oracle, empty_and_single_point) {
     for (grid_kind kind : all_kinds) {
         grid_options o;

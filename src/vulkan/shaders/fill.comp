@@ -1,5 +1,6 @@
 #version 450
 // Fills the CSR rows: neighbors in traversal order (fixed, since the sort is stable).
+#define FRNN_QUERY_BINDING 8
 #include "query_common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -8,15 +9,15 @@ layout(std430, binding = 6) writeonly buffer indices_block { uint indices[]; };
 layout(std430, binding = 7) writeonly buffer d2_block { float dist2[]; };
 
 void main() {
-    const uint s = frnn_thread_index();
-    if (s >= frnn_grid.count) return;
-    uint out_pos = offsets[frnn_result_index(s)];
+    const uint t = frnn_thread_index();
+    if (t >= pc.rows) return;
+    uint out_pos = offsets[frnn_row_of(t)];
     const bool write_d2 = (pc.flags & FRNN_FLAG_DISTANCES) != 0u;
-    frnn_iterator it = frnn_begin(frnn_sorted_position(s));
+    frnn_iterator it = frnn_begin(frnn_row_point(t));
     uint j;
     float d2;
     while (frnn_next(it, j, d2)) {
-        if (!frnn_keep(s, j)) continue;
+        if (!frnn_keep(t, j)) continue;
         indices[out_pos] = frnn_result_index(j);
         if (write_d2) dist2[out_pos] = d2;
         ++out_pos;

@@ -2,6 +2,7 @@
 // k nearest within the radius: each row, sized min(k, count) by the count pass, keeps the best
 // candidates sorted by (squared distance, index): a total order, so the result does not
 // depend on traversal order.
+#define FRNN_QUERY_BINDING 8
 #include "query_common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -12,18 +13,18 @@ layout(std430, binding = 7) buffer d2_block { float dist2[]; };
 bool before(float da, uint ia, float db, uint ib) { return da < db || (da == db && ia < ib); }
 
 void main() {
-    const uint s = frnn_thread_index();
-    if (s >= frnn_grid.count) return;
-    const uint row = frnn_result_index(s);
+    const uint t = frnn_thread_index();
+    if (t >= pc.rows) return;
+    const uint row = frnn_row_of(t);
     const uint b = offsets[row];
     const uint cap = offsets[row + 1u] - b;
     if (cap == 0u) return;
     uint len = 0u;
-    frnn_iterator it = frnn_begin(frnn_sorted_position(s));
+    frnn_iterator it = frnn_begin(frnn_row_point(t));
     uint j;
     float d2;
     while (frnn_next(it, j, d2)) {
-        if (!frnn_keep(s, j)) continue;
+        if (!frnn_keep(t, j)) continue;
         const uint idx = frnn_result_index(j);
         if (len == cap && !before(d2, idx, dist2[b + len - 1u], indices[b + len - 1u])) continue;
         // Insertion into the sorted row, dropping the last entry when full.
