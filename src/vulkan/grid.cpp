@@ -127,6 +127,7 @@ struct grid_state {
     std::size_t count_and_scan(std::uint32_t flags, std::uint32_t cap, const char* what, const row_source& src);
     void lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what);
     csr<float> download_lists(bool distances);
+    csr<float> query_lists(std::span<const float> queries, std::size_t k, const list_options& o, const char* what);
     std::size_t pairs = 0, rows = 0;
 };
 
@@ -382,6 +383,19 @@ void grid_state::lists_on_device(const list_options& o, std::size_t k, const row
     dev->submit();
 }
 
+csr<float> grid_state::query_lists(std::span<const float> queries, std::size_t k, const list_options& o,
+                                   const char* what) {
+    const auto src = upload_queries(queries, what);
+    if (src.rows == 0) return {};
+    if (n == 0) {  // an empty grid: empty rows
+        csr<float> empty;
+        empty.offsets.assign(src.rows + 1, 0);
+        return empty;
+    }
+    lists_on_device(o, k, src, what);
+    return download_lists(o.distances);
+}
+
 csr<float> grid_state::download_lists(bool distances) {
     csr<float> out;
     std::vector<std::uint32_t> off(rows + 1);
@@ -514,35 +528,15 @@ std::vector<std::uint32_t> grid<D>::query_counts(std::span<const float> queries)
 
 template <int D>
 csr<float> grid<D>::query(std::span<const float> queries, const list_options& options) const {
-    auto& s = *state_;
-    s.check_built("query");
-    const auto src = s.upload_queries(queries, "query");
-    if (src.rows == 0) return {};
-    if (s.n == 0) {
-        csr<float> empty;
-        empty.offsets.assign(src.rows + 1, 0);
-        return empty;
-    }
-    const list_options o = for_queries(options);
-    s.lists_on_device(o, 0, src, "query");
-    return s.download_lists(o.distances);
+    state_->check_built("query");
+    return state_->query_lists(queries, 0, for_queries(options), "query");
 }
 
 template <int D>
 csr<float> grid<D>::query_nearest(std::span<const float> queries, std::size_t k, const list_options& options) const {
-    auto& s = *state_;
-    s.check_built("query_nearest");
+    state_->check_built("query_nearest");
     if (k == 0) throw error("vulkan::grid::query_nearest: k must be at least 1");
-    const auto src = s.upload_queries(queries, "query_nearest");
-    if (src.rows == 0) return {};
-    if (s.n == 0) {
-        csr<float> empty;
-        empty.offsets.assign(src.rows + 1, 0);
-        return empty;
-    }
-    const list_options o = for_queries(options);
-    s.lists_on_device(o, k, src, "query_nearest");
-    return s.download_lists(o.distances);
+    return state_->query_lists(queries, k, for_queries(options), "query_nearest");
 }
 
 template <int D>
