@@ -223,6 +223,20 @@ csr<float> neighbor_lists(context& ctx, std::span<const float> coords, int dim, 
 /// Same on a context of its own (first compute-capable device), created for this call.
 csr<float> neighbor_lists(std::span<const float> coords, int dim, float radius,
                           const grid_options& grid = {}, const list_options& lists = {});
+/// One call for a command-line tool or a benchmark: builds a grid over `coords` (N*dim
+/// interleaved, dim 2 or 3) and returns, like the CPU grid, the neighbor lists of every point
+/// (k == 0, no queries), their k nearest (k > 0), or the grid points around each query point
+/// (`queries` non-empty, with k == 0 or k > 0), with the grid's kind, size and timings.
+struct search_result {
+    csr<float> lists;
+    grid_kind kind = grid_kind::uniform;  ///< the kind the grid chose
+    std::size_t cells = 0;                ///< cells (uniform) or table slots (hashed)
+    double build_ms = 0, query_ms = 0;    ///< wall time, including uploads and downloads
+};
+search_result search(context& ctx, std::span<const float> coords, int dim, float radius,
+                     const grid_options& grid = {}, const list_options& lists = {},
+                     std::span<const float> queries = {}, std::size_t k = 0);
+
 /// Neighbor counts of N*dim interleaved host coordinates, on the context's device.
 std::vector<std::uint32_t> count_neighbors(context& ctx, std::span<const float> coords, int dim,
                                            float radius, const grid_options& grid = {});

@@ -1,4 +1,5 @@
 // frnn::vulkan::context, device_buffer, kernel and the host-array convenience functions.
+#include <chrono>
 #include <string>
 
 #include "device.hpp"
@@ -128,6 +129,40 @@ csr<float> neighbor_lists(std::span<const float> coords, int dim, float radius,
                           const grid_options& grid_opts, const list_options& lists) {
     context ctx;
     return neighbor_lists(ctx, coords, dim, radius, grid_opts, lists);
+}
+
+namespace {
+template <int D>
+search_result search_in(context& ctx, std::span<const float> coords, float radius, const grid_options& go,
+                        const list_options& lo, std::span<const float> queries, std::size_t k) {
+    using clock = std::chrono::steady_clock;
+    const auto ms = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    search_result out;
+    const auto t0 = clock::now();
+    grid<D> g(ctx);
+    g.build(coords, radius, go);
+    const auto t1 = clock::now();
+    if (queries.empty())
+        out.lists = k ? g.nearest(k, lo) : g.neighbor_lists(lo);
+    else
+        out.lists = k ? g.query_nearest(queries, k, lo) : g.query(queries, lo);
+    const auto t2 = clock::now();
+    out.kind = g.kind();
+    out.cells = g.cell_count();
+    out.build_ms = ms(t0, t1);
+    out.query_ms = ms(t1, t2);
+    return out;
+}
+}  // namespace
+
+search_result search(context& ctx, std::span<const float> coords, int dim, float radius,
+                     const grid_options& grid_opts, const list_options& lists, std::span<const float> queries,
+                     std::size_t k) {
+    check_dim(dim, "search");
+    return dim == 2 ? search_in<2>(ctx, coords, radius, grid_opts, lists, queries, k)
+                    : search_in<3>(ctx, coords, radius, grid_opts, lists, queries, k);
 }
 
 std::vector<std::uint32_t> count_neighbors(context& ctx, std::span<const float> coords, int dim,

@@ -205,5 +205,27 @@ TEST_F(vulkan_api, agrees_with_the_cpu_grid) {
     EXPECT_EQ(count_neighbors(ctx(), pts, 3, 2.0f), counts);
 }
 
+TEST_F(vulkan_api, search_covers_the_query_command) {
+    // search(): what `frnn query --backend vulkan` calls, against the CPU grid.
+    const auto data = uniform_points<float, 3>(1500, 0, 10, 6);
+    const auto queries = uniform_points<float, 3>(200, -1, 11, 7);
+    frnn::grid<float, 3> cpu(data, 1.0f);
+    list_options o;
+    o.distances = true;
+    o.order = row_order::index;
+    auto same = [](const csr<float>& a, const csr<float>& b) {
+        EXPECT_EQ(a.offsets, b.offsets);
+        EXPECT_EQ(a.indices, b.indices);
+        EXPECT_EQ(a.distances, b.distances);
+    };
+    const auto all = search(ctx(), data, 3, 1.0f, {}, o);
+    same(all.lists, cpu.neighbor_lists(o));
+    EXPECT_EQ(all.kind, grid_kind::uniform);
+    EXPECT_GT(all.cells, 0u);
+    same(search(ctx(), data, 3, 1.0f, {}, o, {}, 4).lists, cpu.nearest(4, o));
+    same(search(ctx(), data, 3, 1.0f, {}, o, queries).lists, cpu.query(queries, o));
+    same(search(ctx(), data, 3, 1.0f, {}, o, queries, 2).lists, cpu.query_nearest(queries, 2, o));
+}
+
 }  // namespace
 }  // namespace frnn::vulkan::test
