@@ -1,0 +1,52 @@
+# Configures, builds and runs one consumer project (cmake -P). Variables:
+#   PROJECT_DIR  the consumer's source        WORK_DIR   scratch folder, recreated each run
+#   GENERATOR, MAKE_PROGRAM, CXX_COMPILER, CXX_FLAGS, CONFIG: those of the frnn build
+#   INSTALL_FROM a frnn build tree to install into WORK_DIR/prefix first (find_package test)
+#   FRNN_SOURCE_DIR, frnn_DIR, FRNN_EXPECTED_VERSION, FRNN_EXPECT_VULKAN: passed on to the
+#                consumer's configure when set
+cmake_minimum_required(VERSION 3.25)
+
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "consumer: ${what} failed (${rc}):\n${ARGN}\n${out}\n${err}")
+  endif()
+  message(STATUS "consumer: ${what} ok")
+  if(what STREQUAL "run")
+    message(STATUS "${out}")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+set(args)
+foreach(var FRNN_SOURCE_DIR frnn_DIR FRNN_EXPECTED_VERSION FRNN_EXPECT_VULKAN)
+  if(DEFINED ${var})
+    list(APPEND args -D${var}=${${var}})
+  endif()
+endforeach()
+if(INSTALL_FROM)
+  set(install_cmd ${CMAKE_COMMAND} --install ${INSTALL_FROM} --prefix ${WORK_DIR}/prefix)
+  if(CONFIG)
+    list(APPEND install_cmd --config ${CONFIG})
+  endif()
+  run("cmake --install" ${install_cmd})
+  list(APPEND args -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+endif()
+if(MAKE_PROGRAM)
+  list(APPEND args -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM})
+endif()
+if(CONFIG)
+  list(APPEND args -DCMAKE_BUILD_TYPE=${CONFIG})
+endif()
+run("configure" ${CMAKE_COMMAND} -S ${PROJECT_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
+    -DCMAKE_CXX_COMPILER=${CXX_COMPILER} "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}" ${args})
+# Only what the consumer needs, as a user's build of their own target would.
+set(build_cmd ${CMAKE_COMMAND} --build ${WORK_DIR}/build --parallel 2 --target consumer)
+set(test_cmd ${CMAKE_CTEST_COMMAND} --test-dir ${WORK_DIR}/build --output-on-failure)
+if(CONFIG)
+  list(APPEND build_cmd --config ${CONFIG})
+  list(APPEND test_cmd -C ${CONFIG})
+endif()
+run("build" ${build_cmd})
+run("run" ${test_cmd})
