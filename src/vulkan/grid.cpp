@@ -109,7 +109,6 @@ struct grid_state {
         if (o.space == index_space::original) f |= flag_original;
         return f;
     }
-    // Counts (capped) into `counts`, scans them; returns the total number of pairs.
     // The rows of a query: the grid's own points, or external query points.
     struct row_source {
         std::size_t rows;
@@ -171,10 +170,11 @@ void grid_state::configure(const grid_options& o, const float* lo_in, const floa
                     std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
     for (int a = 0; a < dim; ++a) {
         params.inv_cell[a] = float(1.0 / cell);
-        if (kind == grid_kind::uniform) {
-            params.origin[a] = float(lo[a]);
+        // Both kinds count cells from the lower corner: small cell coordinates keep the float
+        // rounding (and the search margin that covers it) small.
+        params.origin[a] = float(lo[a]);
+        if (kind == grid_kind::uniform)
             params.dims[a] = std::int32_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
-        }
     }
     if (kind == grid_kind::uniform) {
         slots = 1;

@@ -60,6 +60,12 @@ TEST_F(vulkan_oracle, outlier_3d) {
     check<3>(pts, 1.5f, {grid_kind::automatic, grid_kind::hashed}, "outlier3d");
 }
 
+TEST_F(vulkan_oracle, far_from_the_origin_3d) {
+    // Coordinates near 1e5 (float spacing 0.008) with a small radius: cell coordinates count
+    // from the lower corner, so rounding stays far below a cell.
+    check<3>(uniform_points<float, 3>(800, 1e5, 1e5 + 12, 21), 0.6f, all_kinds, "far3d");
+}
+
 TEST_F(vulkan_oracle, lattice_ties_3d) {
     // Integer coordinates and radius: distances exactly r must be found.
     const auto pts = lattice_points<float, 3>(7, 1.0, -3);
