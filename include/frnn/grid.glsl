@@ -12,6 +12,7 @@
 // s and j number the points in cell order ("sorted"); frnn_original_index(s) gives the
 // caller's index. Every point j with |x - x_j| <= radius is visited exactly once, in a fixed
 // order (rows of cells, then increasing original index), so sums are reproducible run to run.
+// frnn_begin(x) takes any point x, not only grid points (for queries from other points).
 // Cost: the (2*ceil(r/cell)+1)^d cells around x, ~27 cells' points in 3D with cell = r.
 // Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid; in a
 // periodic box they use the minimum image, d -= L * roundEven(d / L).
