@@ -14,7 +14,8 @@
 // Every call records its commands, submits them and waits (synchronous); data passed in as a
 // buffer_view must be complete before the call (its writes made visible, e.g. by waiting on the
 // queue). Thread safety: a context and everything made from it are used from one thread at a
-// time.
+// time; a wrapped queue must not be used by others during a call (Vulkan's external
+// synchronization of queues).
 // Errors: frnn::error, with the reason (no Vulkan driver, no compute device, a buffer larger
 // than the device's maxStorageBufferRange, non-finite coordinates, a failing Vulkan call).
 #pragma once
@@ -55,7 +56,8 @@ struct context_options {
     int device_index = -1;
 };
 
-/// A device the caller created and keeps owning: frnn uses it and destroys none of it.
+/// A device the caller created and keeps owning: frnn uses it and destroys none of it. It needs
+/// Vulkan 1.1 and a queue family with compute support; no features or extensions.
 struct external_device {
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physical_device = VK_NULL_HANDLE;
@@ -67,7 +69,7 @@ struct external_device {
 struct device_info {
     std::string name;
     std::uint32_t api_version = 0;
-    std::uint32_t subgroup_size = 0;
+    std::uint32_t subgroup_size = 0;             ///< 0 when unknown (wrapped devices)
     std::uint64_t max_storage_buffer_range = 0;  ///< largest binding (lavapipe: 128 MiB)
     bool is_cpu = false;                         ///< a software driver such as lavapipe
 };

@@ -277,6 +277,13 @@ device::device(const external_device& ext) : owns_(false) {
     device_ = ext.device;
     queue_ = ext.queue;
     family_ = ext.queue_family;
+    std::uint32_t families = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &families, nullptr);
+    std::vector<VkQueueFamilyProperties> fam(families);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &families, fam.data());
+    if (family_ >= families || !(fam[family_].queueFlags & VK_QUEUE_COMPUTE_BIT))
+        throw error("vulkan: external_device: queue family " + std::to_string(family_) +
+                    " does not exist or has no compute support");
     init_common();
 }
 
@@ -324,7 +331,12 @@ void device::init_common() {
     info_.api_version = props_.apiVersion;
     info_.max_storage_buffer_range = props_.limits.maxStorageBufferRange;
     info_.is_cpu = props_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    if (props_.apiVersion >= VK_API_VERSION_1_1) {
+    // The shaders are SPIR-V 1.3, which needs Vulkan 1.1.
+    if (props_.apiVersion < VK_API_VERSION_1_1)
+        throw error("vulkan: " + info_.name + " supports Vulkan " + std::to_string(VK_API_VERSION_MAJOR(props_.apiVersion)) +
+                    "." + std::to_string(VK_API_VERSION_MINOR(props_.apiVersion)) + ", frnn needs 1.1");
+    // Only on our own instance, which is 1.1: a caller's instance may be 1.0.
+    if (owns_) {
         VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
         VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
         p2.pNext = &sub;

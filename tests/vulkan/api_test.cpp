@@ -133,6 +133,9 @@ TEST_F(vulkan_api, wraps_the_callers_device) {
         a = count_neighbors(wrapped, pts, 2, 1.0f);
     }  // destroys nothing of the caller's
     b = count_neighbors(ctx(), pts, 2, 1.0f);
+    external_device bad = ext;
+    bad.queue_family = 1000;
+    EXPECT_THROW(context{bad}, frnn::error);
     EXPECT_EQ(a, b);
     const auto ref = brute_force_lists<float, 2>(pts, pts, 1.0f, true);
     for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], ref.offsets[i + 1] - ref.offsets[i]);
