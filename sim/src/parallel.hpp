@@ -10,10 +10,15 @@
 
 namespace frnn::sim::detail {
 
+/// Below this many items a loop runs on one thread: waking a team costs more than it saves.
+inline constexpr std::size_t min_parallel = 1024;
+/// The same for loops doing a few flops per particle (integration), memory-bound anyway.
+inline constexpr std::size_t min_parallel_light = 1 << 16;
+
 template <class F>
-void parallel_for(std::size_t n, int threads, profiler& prof, stage s, F&& f) {
+void parallel_for(std::size_t n, int threads, profiler& prof, stage s, F&& f, std::size_t cutoff = min_parallel) {
     const double t_start = prof.now();
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(n < cutoff ? 1 : threads)
     {
         const double t0 = prof.tracing() ? prof.now() : 0;
 #pragma omp for schedule(dynamic, 256) nowait

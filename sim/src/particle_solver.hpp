@@ -129,7 +129,7 @@ protected:
     /// Throws if any position or velocity is not finite, naming the step and particle.
     void check_finite(std::uint64_t step) const {
         std::size_t bad = n_;
-#pragma omp parallel for num_threads(threads_) reduction(min : bad)
+#pragma omp parallel for num_threads(threads_) if (n_ >= min_parallel) reduction(min : bad)
         for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i)
             for (int a = 0; a < D; ++a)
                 if (!std::isfinite(x_[std::size_t(i) * D + a]) || !std::isfinite(v_[std::size_t(i) * D + a]))

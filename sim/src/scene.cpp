@@ -276,6 +276,7 @@ scene parse_scene(const std::string& text, const std::string& origin) {
         o.finish();
     }
     r.finish();
+    if (s.dim == 2) apply(s, {});  // a 2D scene's colliders live in the xy plane
     return s;
 }
 

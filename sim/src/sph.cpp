@@ -90,7 +90,7 @@ private:
     /// CFL condition on sound speed plus flow speed, and the force condition.
     double time_step() const {
         double vmax2 = 0, amax2 = 0;
-#pragma omp parallel for num_threads(threads_) reduction(max : vmax2, amax2)
+#pragma omp parallel for num_threads(threads_) if (n_ >= min_parallel) reduction(max : vmax2, amax2)
         for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i) {
             double v2 = 0, a2 = 0;
             for (int a = 0; a < D; ++a) {
@@ -107,11 +107,21 @@ private:
 
     void kick(profiler& prof, double dt) {
         const float d = float(dt);
-        parallel_for(n_ * D, threads_, prof, stage::integration, [&](std::size_t k) { v_[k] += d * acc_[k]; });
+        parallel_for(
+            n_, threads_, prof, stage::integration,
+            [&](std::size_t i) {
+                for (std::size_t k = i * D; k < i * D + D; ++k) v_[k] += d * acc_[k];
+            },
+            min_parallel_light);
     }
     void drift(profiler& prof, double dt) {
         const float d = float(dt);
-        parallel_for(n_ * D, threads_, prof, stage::integration, [&](std::size_t k) { x_[k] += d * v_[k]; });
+        parallel_for(
+            n_, threads_, prof, stage::integration,
+            [&](std::size_t i) {
+                for (std::size_t k = i * D; k < i * D + D; ++k) x_[k] += d * v_[k];
+            },
+            min_parallel_light);
     }
 
     float pressure(float rho) const {

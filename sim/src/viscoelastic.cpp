@@ -46,14 +46,14 @@ public:
                 prev_[k] = x_[k];
                 x_[k] += dt * v_[k];
             }
-        });
+        }, min_parallel_light);
         this->rebuild_grid(prof, h_, prev_);
         if (prm_.sigma > 0 || prm_.beta > 0) viscosity(prof, dt);
         if (prm_.springs) springs(prof, dt);
         relax(prof);
         parallel_for(n_, threads_, prof, stage::integration, [&](std::size_t i) {
             for (int a = 0; a < D; ++a) v_[i * D + a] = (x_[i * D + a] - prev_[i * D + a]) / dt;
-        });
+        }, min_parallel_light);
         this->collide(prof, this->time_ + step_dt);
         this->time_ += step_dt;
         this->last_dt_ = step_dt;
@@ -91,7 +91,7 @@ private:
         const double g2 = this->scene_.gravity[0] * this->scene_.gravity[0] + this->scene_.gravity[1] * this->scene_.gravity[1] +
                           this->scene_.gravity[2] * this->scene_.gravity[2];
         double vmax2 = 0;
-#pragma omp parallel for num_threads(threads_) reduction(max : vmax2)
+#pragma omp parallel for num_threads(threads_) if (n_ >= min_parallel) reduction(max : vmax2)
         for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i) {
             double v2 = 0;
             for (int a = 0; a < D; ++a) v2 += double(v_[std::size_t(i) * D + a]) * v_[std::size_t(i) * D + a];
@@ -145,7 +145,7 @@ private:
         v_.swap(buf_);
         parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
             for (int a = 0; a < D; ++a) x_[i * D + a] = prev_[i * D + a] + dt * v_[i * D + a];
-        });
+        }, min_parallel_light);
     }
 
     /// Springs between neighbors with plastic rest lengths; each particle keeps its own copy

@@ -127,7 +127,7 @@ TEST(SimOutput, ChromeTraceHasSpansPerStageAndThread) {
     run_options o = quiet(dir);
     o.trace_path = (dir / "trace.json").string();
     o.write_frames = false;
-    run(builtin_scene_text("dam-break"), "dam-break", small(2, 500, 5, 5), o);
+    run(builtin_scene_text("dam-break"), "dam-break", small(2, 1500, 5, 5), o);
     const auto trace = nlohmann::json::parse(slurp(dir / "trace.json"));
     std::set<std::pair<std::string, int>> seen;
     for (const auto& e : trace["traceEvents"])
