@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "validators.hpp"
 #include "frnn/grid.hpp"
 #include "frnn/io/read.hpp"
 #include "frnn/io/write.hpp"
@@ -264,7 +265,7 @@ const register_command query_command{"query", [](CLI::App& app) {
     cmd->add_option("INPUT", args->input, "Point file: .npy (float32/float64, (N,2) or (N,3)), .csv/.txt/.xyz, .ply");
     cmd->add_option("--radius,-r", args->radius, "Search radius: pairs with distance <= R")
         ->required()
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number);
     cmd->add_option("--output,-o", args->output,
                     "Output file: .npy (int64 pairs (M,2)), .csv (i,j,distance) or .npz (CSR lists)");
     cmd->add_option("--queries", args->queries, "Query points (same formats): pairs are (query index, data index)");
@@ -275,10 +276,10 @@ const register_command query_command{"query", [](CLI::App& app) {
     cmd->add_option("--seed", args->seed, "Random seed of --generate");
     cmd->add_option("--grid", args->grid, "Grid kind")->check(CLI::IsMember({"auto", "uniform", "hash"}));
     cmd->add_option("--cell-size", args->cell_size, "Cell edge, between radius/4 and radius (default: radius)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number);
     cmd->add_option("--periodic", args->periodic, "Periodic box [0,LX)x[0,LY)[x[0,LZ)]: LX,LY[,LZ]");
     cmd->add_option("--knn", args->knn, "Keep at most K nearest neighbors within the radius per point")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number);
     cmd->add_flag("--self", args->self, "Include each point as its own neighbor (pair (i,i), distance 0)");
     cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", args->json, "Print the summary as one JSON object");
