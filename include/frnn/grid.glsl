@@ -116,10 +116,10 @@ uint frnn_slot_of(frnn_ivec c) {
 #endif
 }
 
-// Flat invocation index of a dispatch that frnn::vulkan::kernel split into rows of groups.
-uint frnn_invocation_index() {
-    return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-}
+// Flat invocation index of a dispatch that frnn::vulkan::kernel split into rows of groups. A
+// macro: gl_WorkGroupSize is only known after your layout(local_size_x) declaration.
+#define frnn_invocation_index() \
+    (gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 
 #ifndef FRNN_GRID_PARAMS_ONLY
 

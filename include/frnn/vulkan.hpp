@@ -54,6 +54,9 @@ struct context_options {
     message_callback on_message;
     /// Index into vkEnumeratePhysicalDevices; -1: the first device with a compute queue.
     int device_index = -1;
+    /// Larger dispatches are split into rows of this many workgroups (1 to 65535, the limit
+    /// every device supports). Tests set it small to exercise the split on small inputs.
+    std::uint32_t max_groups_per_row = 65535;
 };
 
 /// A device the caller created and keeps owning: frnn uses it and destroys none of it. It needs

@@ -28,13 +28,17 @@ const char* result_name(VkResult r) {
     }
 }
 
-constexpr std::size_t max_groups_x = 65535;
 constexpr VkDeviceSize min_buffer_bytes = 16;  // Vulkan forbids empty buffers
 
 VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT sev,
-                                                VkDebugUtilsMessageTypeFlagsEXT,
+                                                VkDebugUtilsMessageTypeFlagsEXT type,
                                                 const VkDebugUtilsMessengerCallbackDataEXT* data,
                                                 void* user) {
+    // The loader's general warnings (e.g. "layers added by VK_INSTANCE_LAYERS") are not
+    // problems of the application; its general errors ("no drivers") are kept.
+    if (type == VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT &&
+        !(sev & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT))
+        return VK_FALSE;
     auto* cb = static_cast<message_callback*>(user);
     severity s = severity::verbose;
     if (sev & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) s = severity::error;
@@ -218,6 +222,10 @@ void program::release() {
 // device
 
 device::device(const context_options& options) : owns_(true) {
+    if (options.max_groups_per_row < 1 || options.max_groups_per_row > 65535)
+        throw error("vulkan: context_options::max_groups_per_row must lie in [1, 65535], got " +
+                    std::to_string(options.max_groups_per_row));
+    max_groups_x_ = options.max_groups_per_row;
     std::vector<const char*> layers, extensions;
     if (options.validation) {
         if (!has_layer("VK_LAYER_KHRONOS_validation"))
@@ -458,7 +466,7 @@ void device::dispatch(const program& p, std::span<const buffer_view> bindings, c
         throw error("vulkan: program " + p.name() + " takes " + std::to_string(p.bindings()) +
                     " buffers, " + std::to_string(bindings.size()) + " given");
     if (groups == 0) return;
-    const std::size_t gx = std::min(groups, max_groups_x);
+    const std::size_t gx = std::min<std::size_t>(groups, max_groups_x_);
     const std::size_t gy = (groups + gx - 1) / gx;
     if (gy > props_.limits.maxComputeWorkGroupCount[1])
         throw error("vulkan: dispatch of " + std::to_string(groups) + " groups is too large");

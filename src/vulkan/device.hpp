@@ -147,6 +147,7 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptors_ = VK_NULL_HANDLE;
     bool recording_ = false;
+    std::uint32_t max_groups_x_ = 65535;  // Vulkan guarantees 65535 groups per dimension
     std::map<std::array<int, 3>, std::unique_ptr<program>> programs_;
 };
 

@@ -208,6 +208,36 @@ TEST_F(vulkan_api, agrees_with_the_cpu_grid) {
     EXPECT_EQ(count_neighbors(ctx(), pts, 3, 2.0f), counts);
 }
 
+TEST_F(vulkan_api, dispatches_split_into_rows) {
+    // Rows of 3 workgroups: every dispatch (build, scan levels, queries, a user kernel's
+    // frnn_invocation_index) runs as a 2D grid of groups, with spare groups in the last row.
+    context_options o;
+    o.validation = validation_layer_installed();
+    o.on_message = [](severity s, const std::string& m) { validation_messages().add(s, m); };
+    o.max_groups_per_row = 3;
+    context split(o);
+    const auto pts = uniform_points<float, 3>(5000, 0, 12, 8);
+    grid_options go;
+    go.kind = grid_kind::uniform;
+    go.domain_min = {-40, -40, -40};  // ~1.3M cells: scan levels of 1300 and 2 blocks
+    go.domain_max = {70, 70, 70};
+    list_options lo;
+    lo.distances = true;
+    lo.order = row_order::distance;
+    const auto a = neighbor_lists(split, pts, 3, 1.0f, go, lo);
+    const auto b = neighbor_lists(ctx(), pts, 3, 1.0f, go, lo);
+    EXPECT_EQ(a.offsets, b.offsets);
+    EXPECT_EQ(a.indices, b.indices);
+    EXPECT_EQ(a.distances, b.distances);
+    grid<3> g(split);
+    g.build(pts, 1.0f);
+    EXPECT_EQ(g.nearest(3).indices, [&] {
+        grid<3> h(ctx());
+        h.build(pts, 1.0f);
+        return h.nearest(3).indices;
+    }());
+}
+
 TEST_F(vulkan_api, search_covers_the_query_command) {
     // search(): what `frnn query --backend vulkan` calls, against the CPU grid.
     const auto data = uniform_points<float, 3>(1500, 0, 10, 6);

@@ -7,10 +7,10 @@
 #endif
 
 // Flat index of this invocation: groups are laid out x first, then y (the host splits large
-// dispatches into rows of at most 65535 groups).
-uint frnn_thread_index() {
-    return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-}
+// dispatches into rows of at most 65535 groups). A macro, not a function: gl_WorkGroupSize is
+// only known after the shader's layout(local_size_x) declaration, which may come later.
+#define frnn_thread_index() \
+    (gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 
 uint frnn_group_index() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
 

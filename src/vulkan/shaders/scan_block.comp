@@ -16,6 +16,8 @@ shared uint s_part[FRNN_SCAN_THREADS];
 
 void main() {
     const uint block = frnn_group_index();
+    // Groups past the last block exist when a large dispatch is split into rows.
+    if (block * FRNN_SCAN_BLOCK >= pc.count) return;  // uniform over the workgroup
     const uint t = gl_LocalInvocationID.x;
     const uint base = block * FRNN_SCAN_BLOCK + t * FRNN_SCAN_PER_THREAD;
     uint v[FRNN_SCAN_PER_THREAD];
