@@ -211,9 +211,7 @@ TEST_F(vulkan_api, agrees_with_the_cpu_grid) {
 TEST_F(vulkan_api, dispatches_split_into_rows) {
     // Rows of 3 workgroups: every dispatch (build, scan levels, queries, a user kernel's
     // frnn_invocation_index) runs as a 2D grid of groups, with spare groups in the last row.
-    context_options o;
-    o.validation = validation_layer_installed();
-    o.on_message = [](severity s, const std::string& m) { validation_messages().add(s, m); };
+    context_options o = test_options();
     o.max_groups_per_row = 3;
     context split(o);
     const auto pts = uniform_points<float, 3>(5000, 0, 12, 8);

@@ -55,9 +55,7 @@ TEST_F(vulkan_user_kernel, sph_density_matches_cpu) {
 
 TEST_F(vulkan_user_kernel, split_dispatch_uses_frnn_invocation_index) {
     // Rows of 2 workgroups: frnn_invocation_index() must number invocations across rows.
-    context_options o;
-    o.validation = validation_layer_installed();
-    o.on_message = [](severity s, const std::string& m) { validation_messages().add(s, m); };
+    context_options o = test_options();
     o.max_groups_per_row = 2;
     context split(o);
     std::mt19937_64 rng(8);

@@ -14,6 +14,13 @@ bool validation_layer_installed() {
     return false;
 }
 
+context_options test_options() {
+    context_options o;
+    o.validation = validation_layer_installed();
+    o.on_message = [](severity s, const std::string& m) { validation_messages().add(s, m); };
+    return o;
+}
+
 context* shared_context(std::string* why) {
     static std::unique_ptr<context> ctx;
     static std::string failure;
@@ -21,10 +28,7 @@ context* shared_context(std::string* why) {
     if (!tried) {
         tried = true;
         try {
-            context_options o;
-            o.validation = validation_layer_installed();
-            o.on_message = [](severity s, const std::string& m) { validation_messages().add(s, m); };
-            ctx = std::make_unique<context>(o);
+            ctx = std::make_unique<context>(test_options());
         } catch (const frnn::error& e) {
             failure = e.what();
         }

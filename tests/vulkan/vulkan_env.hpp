@@ -34,6 +34,9 @@ inline messages& validation_messages() {
 
 bool validation_layer_installed();
 
+/// Options of every test context: validation when installed, messages collected.
+context_options test_options();
+
 /// The shared context, or nullptr with `why` set when no Vulkan device can be used.
 context* shared_context(std::string* why = nullptr);
 
