@@ -152,6 +152,23 @@ TEST_F(vulkan_oracle, queries_from_other_points) {
     EXPECT_EQ(empty.query_nearest(std::span<const float>(), 2).rows(), 0u);
 }
 
+TEST_F(vulkan_oracle, dense_cluster_long_rows) {
+    // Every point is a neighbor of every other: rows of 1199 entries from 8 cells, sorted on
+    // the device by index and by distance.
+    grid_options o;
+    o.cell_size = 0.25;
+    oracle_checker<3> c(ctx(), uniform_points<float, 3>(1200, 0, 0.5, 22), 1.0f, o, "dense");
+    c.check_counts();
+    for (auto order : {row_order::index, row_order::distance}) {
+        list_options l;
+        l.order = order;
+        l.distances = true;
+        c.check_lists(l);
+    }
+    list_options l;
+    c.check_nearest(20, l);
+}
+
 TEST_F(vulkan_oracle, empty_and_single_point) {
     for (grid_kind kind : all_kinds) {
         grid_options o;

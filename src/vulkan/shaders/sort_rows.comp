@@ -1,6 +1,8 @@
 #version 450
 // Sorts each CSR row in place by index (mode 1) or by (squared distance, index) (mode 2).
-// Insertion sort, one thread per row: rows are short (tens of neighbors).
+// One thread per row; Shell sort (gaps 1, 4, 13, 40, ...): in place, as fast as insertion sort
+// on the short rows of typical data, and ~m^1.3 instead of m^2 on the long rows of dense
+// clusters.
 #include "common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -22,17 +24,22 @@ void main() {
     const uint row = frnn_thread_index();
     if (row >= pc.rows) return;
     const uint b = offsets[row], e = offsets[row + 1u];
+    const uint len = e - b;
     const bool carry = pc.with_d2 != 0u;
-    for (uint k = b + 1u; k < e; ++k) {
-        const uint idx = indices[k];
-        const float d = carry ? dist2[k] : 0.0;
-        uint p = k;
-        while (p > b && before(d, idx, carry ? dist2[p - 1u] : 0.0, indices[p - 1u])) {
-            indices[p] = indices[p - 1u];
-            if (carry) dist2[p] = dist2[p - 1u];
-            --p;
+    uint gap = 1u;
+    while (gap < len / 3u) gap = 3u * gap + 1u;
+    for (; gap > 0u; gap /= 3u) {
+        for (uint k = b + gap; k < e; ++k) {
+            const uint idx = indices[k];
+            const float d = carry ? dist2[k] : 0.0;
+            uint p = k;
+            while (p >= b + gap && before(d, idx, carry ? dist2[p - gap] : 0.0, indices[p - gap])) {
+                indices[p] = indices[p - gap];
+                if (carry) dist2[p] = dist2[p - gap];
+                p -= gap;
+            }
+            indices[p] = idx;
+            if (carry) dist2[p] = d;
         }
-        indices[p] = idx;
-        if (carry) dist2[p] = d;
     }
 }
