@@ -2,9 +2,9 @@
 //
 // A context owns (or wraps) a Vulkan device and queue. A vulkan::grid<D> is built on the device
 // from host coordinates or from the caller's own VkBuffer (no copy): bounding box, insertion
-// with atomics, multi-level exclusive scan, scatter and a stable pass, ~8 dispatches for 1M
+// with atomics, multi-level exclusive scan, scatter and a stable pass: 7-9 dispatches for 1M
 // points. Queries run on the device: neighbor counts, CSR neighbor lists (count, scan, fill)
-// and the k nearest within the radius. Results equal the CPU grid's pairs exactly (same float
+// and the k nearest within the radius, of the grid's points or of other query points. Results equal the CPU grid's pairs exactly (same float
 // formula, `precise` arithmetic), rows in a deterministic order. Float coordinates, 2D and 3D,
 // uniform and hashed grids, periodic boxes (minimum image, as on the CPU).
 // User shaders loop over neighbors with the GLSL include frnn/grid.glsl (see kernel).
