@@ -57,6 +57,9 @@ struct context_options {
     /// Larger dispatches are split into rows of this many workgroups (1 to 65535, the limit
     /// every device supports). Tests set it small to exercise the split on small inputs.
     std::uint32_t max_groups_per_row = 65535;
+    /// Largest storage buffer frnn binds, in bytes: 0 means the device's maxStorageBufferRange;
+    /// smaller values make tests split lists and reject oversized buffers on small inputs.
+    std::uint64_t max_binding_bytes = 0;
 };
 
 /// A device the caller created and keeps owning: frnn uses it and destroys none of it. It needs
@@ -73,7 +76,7 @@ struct device_info {
     std::string name;
     std::uint32_t api_version = 0;
     std::uint32_t subgroup_size = 0;             ///< 0 when unknown (wrapped devices)
-    std::uint64_t max_storage_buffer_range = 0;  ///< largest binding (lavapipe: 128 MiB)
+    std::uint64_t max_storage_buffer_range = 0;  ///< largest binding frnn uses (lavapipe: 128 MiB)
     bool is_cpu = false;                         ///< a software driver such as lavapipe
 };
 
@@ -161,7 +164,8 @@ public:
     std::vector<std::uint32_t> sorted_to_original() const;
     /// Number of neighbors of every point.
     std::vector<std::uint32_t> count_neighbors(index_space space = index_space::original) const;
-    /// Neighbor lists of every point (all of list_options supported).
+    /// Neighbor lists of every point (all of list_options supported). Lists larger than one
+    /// storage buffer (maxStorageBufferRange) are filled in chunks of rows.
     csr<float> neighbor_lists(const list_options& options = {}) const;
     /// At most k nearest neighbors within r of every point, sorted by distance (ties by index).
     csr<float> nearest(std::size_t k, const list_options& options = {}) const;
@@ -175,7 +179,7 @@ public:
 
     /// Neighbor lists left on the device: uint32 offsets (rows + 1), uint32 indices and, when
     /// options.distances, float squared distances. Owned by the grid, valid until its next
-    /// query or build.
+    /// query or build. All pairs must fit one storage buffer (frnn::error otherwise).
     struct device_csr {
         buffer_view offsets, indices, distances_squared;
         std::size_t rows = 0, pairs = 0;

@@ -91,10 +91,10 @@ void fail_call(VkResult result, const char* call, const char* file, int line) {
 buffer::buffer(device& dev, VkDeviceSize bytes, kind k, const std::string& what) : dev_(&dev) {
     bytes = std::max(bytes, min_buffer_bytes);
     const auto& limits = dev.properties().limits;
-    if (k == kind::storage && bytes > limits.maxStorageBufferRange)
+    if (k == kind::storage && bytes > dev.info().max_storage_buffer_range)
         throw error("vulkan: " + what + " needs " + std::to_string(bytes) +
                     " bytes, more than this device's maxStorageBufferRange of " +
-                    std::to_string(limits.maxStorageBufferRange) + " bytes (" + dev.info().name +
+                    std::to_string(dev.info().max_storage_buffer_range) + " bytes (" + dev.info().name +
                     "); use fewer points or pairs per call, or the CPU grid");
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = bytes;
@@ -226,6 +226,7 @@ device::device(const context_options& options) : owns_(true) {
         throw error("vulkan: context_options::max_groups_per_row must lie in [1, 65535], got " +
                     std::to_string(options.max_groups_per_row));
     max_groups_x_ = options.max_groups_per_row;
+    max_binding_bytes_ = options.max_binding_bytes;
     std::vector<const char*> layers, extensions;
     if (options.validation) {
         if (!has_layer("VK_LAYER_KHRONOS_validation"))
@@ -338,6 +339,8 @@ void device::init_common() {
     info_.name = props_.deviceName;
     info_.api_version = props_.apiVersion;
     info_.max_storage_buffer_range = props_.limits.maxStorageBufferRange;
+    if (max_binding_bytes_ > 0)
+        info_.max_storage_buffer_range = std::min<std::uint64_t>(info_.max_storage_buffer_range, max_binding_bytes_);
     info_.is_cpu = props_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     // The shaders are SPIR-V 1.3, which needs Vulkan 1.1.
     if (props_.apiVersion < VK_API_VERSION_1_1)
@@ -419,7 +422,7 @@ program& device::get(shader s, int dim, kind_constant kind) {
     auto& slot = programs_[{int(s), dim, int(kind)}];
     if (!slot) {
         const embedded_shader e = embedded(s, dim);
-        slot = std::make_unique<program>(*this, e.words, e.bindings, 16, e.name, kind);
+        slot = std::make_unique<program>(*this, e.words, e.bindings, 32, e.name, kind);
     }
     return *slot;
 }
@@ -483,11 +486,11 @@ void device::dispatch(const program& p, std::span<const buffer_view> bindings, c
     for (std::size_t i = 0; i < bindings.size(); ++i) {
         if (!bindings[i].buffer)
             throw error("vulkan: program " + p.name() + ": buffer " + std::to_string(i) + " is null");
-        if (bindings[i].size > props_.limits.maxStorageBufferRange)
+        if (bindings[i].size > info_.max_storage_buffer_range)
             throw error("vulkan: program " + p.name() + ": binding " + std::to_string(i) + " of " +
                         std::to_string(bindings[i].size) +
                         " bytes exceeds maxStorageBufferRange (" +
-                        std::to_string(props_.limits.maxStorageBufferRange) + ")");
+                        std::to_string(info_.max_storage_buffer_range) + ")");
         infos[i] = {bindings[i].buffer, bindings[i].offset, bindings[i].size};
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         writes[i].dstSet = set;

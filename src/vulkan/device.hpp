@@ -148,6 +148,7 @@ private:
     VkDescriptorPool descriptors_ = VK_NULL_HANDLE;
     bool recording_ = false;
     std::uint32_t max_groups_x_ = 65535;  // Vulkan guarantees 65535 groups per dimension
+    std::uint64_t max_binding_bytes_ = 0;  // 0: the device's maxStorageBufferRange
     std::map<std::array<int, 3>, std::unique_ptr<program>> programs_;
 };
 

@@ -124,8 +124,15 @@ struct grid_state {
     void record_count(std::uint32_t flags, std::uint32_t cap, const row_source& src);
     // Counts (capped) into `counts`, scans them; returns the total number of pairs.
     std::size_t count_and_scan(std::uint32_t flags, std::uint32_t cap, const char* what, const row_source& src);
+    struct list_plan {
+        bool nearest, need_d2;
+        std::uint32_t flags, cap, sort;  // sort: 0 none, 1 by index, 2 by distance
+    };
+    list_plan plan(const list_options& o, std::size_t k, const row_source& src) const;
+    void fill_rows(const list_plan& p, const row_source& src, std::size_t r0, std::size_t r1, std::size_t chunk);
+    std::string too_many_pairs(const char* what, std::size_t count) const;
     void lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what);
-    csr<float> download_lists(bool distances);
+    csr<float> lists_to_host(const list_options& o, std::size_t k, const row_source& src, const char* what);
     csr<float> query_lists(std::span<const float> queries, std::size_t k, const list_options& o, const char* what);
     std::size_t pairs = 0, rows = 0;
 };
@@ -163,7 +170,7 @@ void grid_state::configure(const grid_options& o, const float* lo_in, const floa
     kind = o.kind;
     if (kind == grid_kind::automatic)
         kind = cells <= std::max(4.0 * double(n), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
-    const double max_cells = double(dev->properties().limits.maxStorageBufferRange) / 4 - 1;
+    const double max_cells = double(dev->info().max_storage_buffer_range) / 4 - 1;
     if (kind == grid_kind::uniform && !(cells <= max_cells))
         throw error("vulkan: a uniform grid over this domain would need " + std::to_string(cells) +
                     " cells, more than one storage buffer of this device holds (" +
@@ -346,41 +353,89 @@ std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const
     return total;
 }
 
-// Counts, scans and fills the rows on the device (k > 0: k nearest).
-void grid_state::lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what) {
-    const bool nearest = k > 0;
-    const bool need_d2 = o.distances || nearest || o.order == row_order::distance;
-    std::uint32_t f = flags(o);
-    if (need_d2) f |= flag_distances;
-    if (src.external) f |= flag_external;
-    const std::uint32_t cap = nearest ? std::uint32_t(std::min<std::size_t>(k, 0xFFFFFFFFu)) : 0xFFFFFFFFu;
-    pairs = count_and_scan(f, cap, what, src);
-    const std::size_t limit = dev->properties().limits.maxStorageBufferRange;
-    if (pairs * 4 > limit)
-        throw error(std::string("vulkan::grid::") + what + ": " + std::to_string(pairs) + " pairs need " +
-                    std::to_string(pairs * 4) +
-                    " bytes per array, more than this device's maxStorageBufferRange of " +
-                    std::to_string(limit) + " bytes; query fewer points or a smaller radius");
-    ensure(indices, pairs * 4, "neighbor indices");
-    if (need_d2) ensure(dist2, pairs * 4, "neighbor distances");
+grid_state::list_plan grid_state::plan(const list_options& o, std::size_t k, const row_source& src) const {
+    list_plan p;
+    p.nearest = k > 0;
+    p.need_d2 = o.distances || p.nearest || o.order == row_order::distance;
+    p.flags = flags(o) | (p.need_d2 ? flag_distances : 0u) | (src.external ? flag_external : 0u);
+    p.cap = p.nearest ? std::uint32_t(std::min<std::size_t>(k, 0xFFFFFFFFu)) : 0xFFFFFFFFu;
+    p.sort = p.nearest ? 0u : o.order == row_order::distance ? 2u : o.order == row_order::index ? 1u : 0u;
+    return p;
+}
+
+// Fills rows [r0, r1) (whose pairs, `chunk` of them, start at offsets[r0]) into the start of
+// the index and distance buffers, sorting them when asked.
+void grid_state::fill_rows(const list_plan& p, const row_source& src, std::size_t r0, std::size_t r1,
+                           std::size_t chunk) {
+    ensure(indices, chunk * 4, "neighbor indices");
+    if (p.need_d2) ensure(dist2, chunk * 4, "neighbor distances");
     const auto g = grid_views();
     const buffer_view offsets = counts.view(0, (rows + 1) * 4);
-    const buffer_view idx = indices.view(0, std::max<std::size_t>(pairs * 4, 4));
-    const buffer_view d2 = need_d2 ? dist2.view(0, std::max<std::size_t>(pairs * 4, 4)) : dummy.view(0, 16);
-    const std::uint32_t push[3] = {f, cap, std::uint32_t(rows)};
+    const buffer_view idx = indices.view(0, std::max<std::size_t>(chunk * 4, 4));
+    const buffer_view d2 = p.need_d2 ? dist2.view(0, std::max<std::size_t>(chunk * 4, 4)) : dummy.view(0, 16);
+    const std::uint32_t push[5] = {p.flags, p.cap, std::uint32_t(rows), std::uint32_t(r0), std::uint32_t(r1)};
     dev->begin();
-    if (pairs > 0) {
-        dev->dispatch(dev->get(nearest ? shader::knn : shader::fill, dim, kind_code()),
+    if (chunk > 0) {
+        dev->dispatch(dev->get(p.nearest ? shader::knn : shader::fill, dim, kind_code()),
                       {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2, src.queries}, push, sizeof(push),
                       groups_for(rows, group_size));
-        if (!nearest && o.order != row_order::none) {
-            const std::uint32_t sp[3] = {std::uint32_t(rows), o.order == row_order::distance ? 2u : 1u,
-                                         need_d2 ? 1u : 0u};
+        if (p.sort) {
+            const std::uint32_t sp[4] = {std::uint32_t(r1 - r0), p.sort, p.need_d2 ? 1u : 0u, std::uint32_t(r0)};
             dev->dispatch(dev->get(shader::sort_rows, dim), {offsets, idx, d2}, sp, sizeof(sp),
-                          groups_for(rows, group_size));
+                          groups_for(r1 - r0, group_size));
         }
     }
     dev->submit();
+}
+
+std::string grid_state::too_many_pairs(const char* what, std::size_t count) const {
+    const std::size_t limit = dev->info().max_storage_buffer_range;
+    return std::string("vulkan::grid::") + what + ": " + std::to_string(count) + " pairs need " +
+           std::to_string(count * 4) + " bytes per array, more than one storage buffer of this device holds (" +
+           "maxStorageBufferRange " + std::to_string(limit) + " bytes)";
+}
+
+// Counts, scans and fills all rows on the device (k > 0: k nearest); one binding must hold them.
+void grid_state::lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what) {
+    const list_plan p = plan(o, k, src);
+    pairs = count_and_scan(p.flags, p.cap, what, src);
+    if (pairs * 4 > dev->info().max_storage_buffer_range)
+        throw error(too_many_pairs(what, pairs) + "; use the host results (split automatically), query fewer "
+                                                   "points or a smaller radius");
+    fill_rows(p, src, 0, rows, pairs);
+}
+
+// Lists to the host: rows are filled in chunks whose pairs fit one storage buffer, so results
+// larger than maxStorageBufferRange still work (one more pass over the points per chunk).
+csr<float> grid_state::lists_to_host(const list_options& o, std::size_t k, const row_source& src, const char* what) {
+    const list_plan p = plan(o, k, src);
+    pairs = count_and_scan(p.flags, p.cap, what, src);
+    std::vector<std::uint32_t> off(rows + 1);
+    dev->download(counts.view(0, (rows + 1) * 4), off.data(), (rows + 1) * 4);
+    csr<float> out;
+    out.offsets.assign(off.begin(), off.end());
+    out.indices.resize(pairs);
+    if (o.distances) out.distances.resize(pairs);
+    const std::size_t per_chunk = dev->info().max_storage_buffer_range / 4;
+    for (std::size_t r0 = 0; r0 < rows;) {
+        // The most rows from r0 whose pairs fit one buffer.
+        const std::size_t r1 =
+            std::size_t(std::upper_bound(off.begin() + r0 + 1, off.end(), std::uint64_t(off[r0]) + per_chunk,
+                                         [](std::uint64_t v, std::uint32_t e) { return v < e; }) -
+                        off.begin()) - 1;
+        if (r1 == r0) throw error(too_many_pairs(what, off[r0 + 1] - off[r0]) + " in row " + std::to_string(r0));
+        const std::size_t chunk = off[r1] - off[r0];
+        fill_rows(p, src, r0, r1, chunk);
+        dev->download(indices.view(0, chunk * 4), out.indices.data() + off[r0], chunk * 4);
+        if (o.distances) {
+            float* d = out.distances.data() + off[r0];
+            dev->download(dist2.view(0, chunk * 4), d, chunk * 4);
+            // The host's sqrt is correctly rounded, so distances match the CPU grid bit for bit.
+            for (std::size_t e = 0; e < chunk; ++e) d[e] = std::sqrt(d[e]);
+        }
+        r0 = r1;
+    }
+    return out;
 }
 
 csr<float> grid_state::query_lists(std::span<const float> queries, std::size_t k, const list_options& o,
@@ -392,24 +447,7 @@ csr<float> grid_state::query_lists(std::span<const float> queries, std::size_t k
         empty.offsets.assign(src.rows + 1, 0);
         return empty;
     }
-    lists_on_device(o, k, src, what);
-    return download_lists(o.distances);
-}
-
-csr<float> grid_state::download_lists(bool distances) {
-    csr<float> out;
-    std::vector<std::uint32_t> off(rows + 1);
-    dev->download(counts.view(0, (rows + 1) * 4), off.data(), (rows + 1) * 4);
-    out.offsets.assign(off.begin(), off.end());
-    out.indices.resize(pairs);
-    dev->download(indices.view(0, pairs * 4), out.indices.data(), pairs * 4);
-    if (distances) {
-        out.distances.resize(pairs);
-        dev->download(dist2.view(0, pairs * 4), out.distances.data(), pairs * 4);
-        // The host's sqrt is correctly rounded, so distances match the CPU grid bit for bit.
-        for (auto& d : out.distances) d = std::sqrt(d);
-    }
-    return out;
+    return lists_to_host(o, k, src, what);
 }
 
 }  // namespace detail
@@ -488,8 +526,7 @@ csr<float> grid<D>::neighbor_lists(const list_options& options) const {
     auto& s = *state_;
     s.check_built("neighbor_lists");
     if (s.n == 0) return {};
-    s.lists_on_device(options, 0, s.own_rows(), "neighbor_lists");
-    return s.download_lists(options.distances);
+    return s.lists_to_host(options, 0, s.own_rows(), "neighbor_lists");
 }
 
 template <int D>
@@ -498,8 +535,7 @@ csr<float> grid<D>::nearest(std::size_t k, const list_options& options) const {
     s.check_built("nearest");
     if (k == 0) throw error("vulkan::grid::nearest: k must be at least 1");
     if (s.n == 0) return {};
-    s.lists_on_device(options, k, s.own_rows(), "nearest");
-    return s.download_lists(options.distances);
+    return s.lists_to_host(options, k, s.own_rows(), "nearest");
 }
 
 // Queries from other points: `half` and `self` do not apply (as on the CPU).

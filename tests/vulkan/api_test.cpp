@@ -79,24 +79,48 @@ TEST_F(vulkan_api, rejects_bad_input_with_reasons) {
     EXPECT_NE(error_of([&] { neighbor_lists(ctx(), pts, 4, 1.0f); }).find("dimension"), std::string::npos);
 }
 
-TEST_F(vulkan_api, rejects_buffers_beyond_the_binding_limit) {
-    // All points identical: every pair is a neighbor, n^2 pairs.
-    const std::uint64_t limit = ctx().info().max_storage_buffer_range;
-    const std::size_t n = std::size_t(std::sqrt(double(limit) / 4)) + 64;
-    if (std::uint64_t(n) * n * 4 > 4 * limit || n > 40000)
-        GTEST_SKIP() << "maxStorageBufferRange " << limit << " is too large for a quick over-limit test";
-    const std::vector<float> pts(n * 3, 1.0f);
-    grid<3> g(ctx());
-    g.build(pts, 1.0f);
-    const std::string msg = error_of([&] { g.neighbor_lists(); });
-    EXPECT_NE(msg.find("maxStorageBufferRange"), std::string::npos) << msg;
-    // The grid stays usable after the error.
-    EXPECT_EQ(g.count_neighbors()[0], n - 1);
-    // A user buffer smaller than the points it should hold.
-    device_buffer small(ctx(), 64);
-    EXPECT_NE(error_of([&] { g.build(small.view(), 100, 1.0f); }).find("buffer holds"), std::string::npos);
-    EXPECT_NE(error_of([&] { device_buffer huge(ctx(), limit + 1); }).find("maxStorageBufferRange"),
+TEST_F(vulkan_api, splits_or_rejects_beyond_the_binding_limit) {
+    // Bindings of at most 16 KiB (4096 pairs): host results come in chunks of rows, identical
+    // to unsplit ones; results kept on the device and oversized buffers are rejected.
+    context_options o = test_options();
+    o.max_binding_bytes = 16384;
+    context small(o);
+    EXPECT_EQ(small.info().max_storage_buffer_range, 16384u);
+    const auto pts = uniform_points<float, 3>(1000, 0, 6, 9);  // ~19 neighbors, ~19,000 pairs
+    const auto queries = uniform_points<float, 3>(300, 0, 6, 10);
+    grid<3> a(small), b(ctx());
+    a.build(pts, 1.0f);
+    b.build(pts, 1.0f);
+    auto same = [](const csr<float>& x, const csr<float>& y) {
+        EXPECT_EQ(x.offsets, y.offsets);
+        EXPECT_EQ(x.indices, y.indices);
+        EXPECT_EQ(x.distances, y.distances);
+    };
+    for (auto order : {row_order::none, row_order::index, row_order::distance}) {
+        list_options lo;
+        lo.order = order;
+        lo.distances = order != row_order::index;
+        const auto split = a.neighbor_lists(lo);
+        EXPECT_GT(split.size() * 4, 3u * 16384u);  // four chunks
+        same(split, b.neighbor_lists(lo));
+        same(a.query(queries, lo), b.query(queries, lo));
+    }
+    same(a.nearest(8), b.nearest(8));
+    same(a.query_nearest(queries, 5), b.query_nearest(queries, 5));
+
+    const std::string on_device = error_of([&] { a.neighbor_lists_on_device(); });
+    EXPECT_NE(on_device.find("maxStorageBufferRange"), std::string::npos) << on_device;
+    EXPECT_EQ(a.count_neighbors(), b.count_neighbors());  // still usable after the error
+    // Buffers: a device_buffer, a uniform grid's cells, and a caller's buffer too small.
+    EXPECT_NE(error_of([&] { device_buffer huge(small, 16385); }).find("maxStorageBufferRange"),
               std::string::npos);
+    grid_options uniform;
+    uniform.kind = grid_kind::uniform;
+    uniform.domain_min = {0, 0, 0};
+    uniform.domain_max = {30, 30, 30};
+    EXPECT_NE(error_of([&] { a.build(pts, 1.0f, uniform); }).find("use the hashed grid"), std::string::npos);
+    device_buffer tiny(ctx(), 64);
+    EXPECT_NE(error_of([&] { b.build(tiny.view(), 100, 1.0f); }).find("buffer holds"), std::string::npos);
 }
 
 TEST_F(vulkan_api, builds_from_the_callers_buffer) {

@@ -11,7 +11,9 @@ layout(std430, binding = 7) writeonly buffer d2_block { float dist2[]; };
 void main() {
     const uint t = frnn_thread_index();
     if (t >= pc.rows) return;
-    uint out_pos = offsets[frnn_row_of(t)];
+    const uint row = frnn_row_of(t);
+    if (row < pc.row_begin || row >= pc.row_end) return;
+    uint out_pos = offsets[row] - offsets[pc.row_begin];
     const bool write_d2 = (pc.flags & FRNN_FLAG_DISTANCES) != 0u;
     frnn_iterator it = frnn_begin(frnn_row_point(t));
     uint j;

@@ -16,8 +16,9 @@ void main() {
     const uint t = frnn_thread_index();
     if (t >= pc.rows) return;
     const uint row = frnn_row_of(t);
-    const uint b = offsets[row];
-    const uint cap = offsets[row + 1u] - b;
+    if (row < pc.row_begin || row >= pc.row_end) return;
+    const uint b = offsets[row] - offsets[pc.row_begin];
+    const uint cap = offsets[row + 1u] - offsets[row];
     if (cap == 0u) return;
     uint len = 0u;
     frnn_iterator it = frnn_begin(frnn_row_point(t));

@@ -16,6 +16,8 @@ layout(push_constant) uniform push_block {
     uint flags;
     uint cap;    // at most this many neighbors per row (k of k-nearest; 0xFFFFFFFF otherwise)
     uint rows;   // number of rows (grid points or query points)
+    uint row_begin, row_end;  // fill and knn: the rows of this chunk; their pairs start at
+                              // offsets[row_begin] in the output buffers
 } pc;
 
 layout(std430, binding = FRNN_QUERY_BINDING) readonly buffer query_block { float query_pos[]; };

@@ -10,9 +10,10 @@ layout(std430, binding = 0) readonly buffer offsets_block { uint offsets[]; };
 layout(std430, binding = 1) buffer indices_block { uint indices[]; };
 layout(std430, binding = 2) buffer d2_block { float dist2[]; };
 layout(push_constant) uniform push_block {
-    uint rows;
+    uint rows;       // rows of this chunk
     uint mode;
     uint with_d2;
+    uint row_begin;  // first row of the chunk; its pairs start at index 0 of the buffers
 } pc;
 
 bool before(float da, uint ia, float db, uint ib) {
@@ -21,9 +22,10 @@ bool before(float da, uint ia, float db, uint ib) {
 }
 
 void main() {
-    const uint row = frnn_thread_index();
-    if (row >= pc.rows) return;
-    const uint b = offsets[row], e = offsets[row + 1u];
+    const uint t = frnn_thread_index();
+    if (t >= pc.rows) return;
+    const uint row = pc.row_begin + t, base = offsets[pc.row_begin];
+    const uint b = offsets[row] - base, e = offsets[row + 1u] - base;
     const uint len = e - b;
     const bool carry = pc.with_d2 != 0u;
     uint gap = 1u;
