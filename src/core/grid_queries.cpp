@@ -102,11 +102,29 @@ struct distance_kernel {
     }
 };
 
+/// Leaves new elements of a resized vector uninitialized: the chunk buffers grow ahead of
+/// their writes, and zero-filling them cost as much as the writes themselves.
+template <class U>
+struct uninitialized_allocator : std::allocator<U> {
+    template <class V>
+    struct rebind {
+        using other = uninitialized_allocator<V>;
+    };
+    template <class V>
+    void construct(V* p) noexcept {
+        ::new (static_cast<void*>(p)) V;
+    }
+    template <class V, class... Args>
+    void construct(V* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) V(std::forward<Args>(args)...);
+    }
+};
+
 /// Growable per-chunk output: neighbor index and squared distance per entry, count per row.
 template <class T>
 struct chunk_rows {
-    std::vector<std::uint32_t> index;
-    std::vector<T> d2;
+    std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> index;
+    std::vector<T, uninitialized_allocator<T>> d2;
     std::vector<std::uint32_t> row_count;
     std::size_t used = 0;
     bool keep_d2 = false;
