@@ -74,3 +74,13 @@ def test_tiny_inputs():
     assert frnn.Grid(np.zeros((0, 3)), 1.0).query_pairs().shape == (0, 2)
     assert frnn.Grid(np.zeros((1, 2)), 1.0).query_pairs().shape == (0, 2)
     np.testing.assert_array_equal(frnn.Grid(np.zeros((2, 2)), 1.0).query_pairs(), [[0, 1]])
+
+
+@pytest.mark.parametrize("box", [2.0, 2.5, 3.0, 4.5])
+def test_small_periodic_boxes(box, dtype):
+    """Boxes of 2 to 4.5 radii: stencils wrap onto the same cells; each pair is found once."""
+    points = uniform(400, 3, box, 9)
+    drop = ambiguous_pairs(exact(points, dtype), 1.0, box, dtype)
+    got = frnn.Grid(points.astype(dtype), 1.0, periodic=box).query_pairs()
+    want = reference_pairs(exact(points, dtype), 1.0, box)
+    np.testing.assert_array_equal(without(got, drop), without(want, drop))
