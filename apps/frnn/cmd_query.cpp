@@ -19,6 +19,9 @@
 #include "frnn/grid.hpp"
 #include "frnn/io/read.hpp"
 #include "frnn/io/write.hpp"
+#ifdef FRNN_VULKAN_AVAILABLE
+#include "frnn/vulkan.hpp"
+#endif
 
 namespace frnn::app {
 namespace {
@@ -29,6 +32,7 @@ struct query_args {
     std::size_t knn = 0;
     int threads = 0, dim = 3;
     std::uint64_t seed = 42;
+    std::string backend = "cpu";
     bool self = false, json = false;
 };
 
@@ -178,11 +182,66 @@ void print_report(const query_args& a, const query_report& r) {
                 a.queries.empty() && a.knn == 0 ? " (i < j)" : "");
     std::printf("neighbors  mean %.2f, max %zu per %s point\n", r.mean_neighbors, r.max_neighbors,
                 a.queries.empty() ? "data" : "query");
-    std::printf("grid       %s, %zu cells (%zu non-empty), cell size %g, %d threads\n", r.grid.c_str(), r.cells,
-                r.nonempty, r.cell_size, r.threads);
+    if (a.backend == "vulkan")
+        std::printf("grid       %s, %zu cells, cell size %g, on the Vulkan device\n", r.grid.c_str(), r.cells,
+                    r.cell_size);
+    else
+        std::printf("grid       %s, %zu cells (%zu non-empty), cell size %g, %d threads\n", r.grid.c_str(), r.cells,
+                    r.nonempty, r.cell_size, r.threads);
     std::printf("time       read %.1f ms, build %.1f ms, query %.1f ms, write %.1f ms\n", r.read_ms, r.build_ms,
                 r.query_ms, r.write_ms);
     if (!a.output.empty()) std::printf("output     %s\n", a.output.c_str());
+}
+
+// Writes the output file and fills the pair statistics of the report.
+template <class T>
+void finish_lists(const query_args& a, const csr<T>& lists, query_report& r, stopwatch& clock) {
+    // Without --queries or --knn the lists are symmetric: files keep each pair once (i <= j).
+    const io::pair_filter filter = a.queries.empty() && a.knn == 0 ? io::pair_filter::upper : io::pair_filter::all;
+    if (!a.output.empty()) io::write_neighbors(a.output, lists, filter);
+    r.write_ms = clock.lap_ms();
+    r.pairs = io::count_pairs(lists, filter);
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        r.max_neighbors = std::max<std::size_t>(r.max_neighbors, lists.row(i).size());
+    r.mean_neighbors = lists.rows() ? double(lists.size()) / double(lists.rows()) : 0.0;
+}
+
+// The same query on the Vulkan device (float precision: double input is converted).
+void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& queries,
+                     const std::vector<double>& periodic, query_report& r, stopwatch& clock) {
+#ifdef FRNN_VULKAN_AVAILABLE
+    data.convert_to(io::precision::f32);
+    if (!a.queries.empty()) queries.convert_to(io::precision::f32);
+    grid_options options;
+    options.kind = parse_grid_kind(a.grid);
+    options.cell_size = a.cell_size;
+    options.periodic = periodic;
+    list_options lists_options;
+    lists_options.distances = true;
+    lists_options.self = a.self;
+    lists_options.order = row_order::index;
+    vulkan::context ctx;
+    const auto& xyz = std::get<std::vector<float>>(data.coords);
+    const std::vector<float> none;
+    const auto& q = a.queries.empty() ? none : std::get<std::vector<float>>(queries.coords);
+    vulkan::search_result found =
+        vulkan::search(ctx, xyz, data.dimension, float(a.radius), options, lists_options, q, a.knn);
+    if (a.knn) sort_rows_by_index(found.lists);
+    clock.lap_ms();
+    r.build_ms = found.build_ms;
+    r.query_ms = found.query_ms;
+    r.points = data.size();
+    r.dimension = data.dimension;
+    r.precision = "float (vulkan)";
+    r.grid = std::string(to_string(found.kind)) + " (vulkan)";
+    r.cells = found.cells;
+    r.cell_size = a.cell_size > 0 ? a.cell_size : a.radius;
+    r.threads = 0;
+    finish_lists(a, found.lists, r, clock);
+#else
+    (void)a, (void)data, (void)queries, (void)periodic, (void)r, (void)clock;
+    throw error("this frnn was built without the Vulkan backend (it needs libvulkan-dev and glslc at build time)");
+#endif
 }
 
 void run_query(const query_args& a) {
@@ -211,6 +270,12 @@ void run_query(const query_args& a) {
                 throw CLI::ValidationError("--periodic", "every box length must be at least 2 * radius");
     }
     r.read_ms = clock.lap_ms();
+    r.query_points = a.queries.empty() ? 0 : queries.size();
+    if (a.backend == "vulkan") {
+        query_on_vulkan(a, data, queries, periodic, r, clock);
+        print_report(a, r);
+        return;
+    }
 
     io::visit_points(data, [&]<class T, int D>(std::span<const T> xyz) {
         grid_options options;
@@ -235,14 +300,7 @@ void run_query(const query_args& a) {
         if (a.knn) sort_rows_by_index(lists);
         r.query_ms = clock.lap_ms();
 
-        // Without --queries or --knn the lists are symmetric: files keep each pair once (i <= j).
-        const io::pair_filter filter =
-            a.queries.empty() && a.knn == 0 ? io::pair_filter::upper : io::pair_filter::all;
-        if (!a.output.empty()) io::write_neighbors(a.output, lists, filter);
-        r.write_ms = clock.lap_ms();
-
         r.points = g.size();
-        r.query_points = a.queries.empty() ? 0 : queries.size();
         r.dimension = D;
         r.precision = io::to_string(data.type());
         r.grid = to_string(g.kind());
@@ -250,10 +308,7 @@ void run_query(const query_args& a) {
         r.nonempty = g.nonempty_cells();
         r.cell_size = g.cell_size();
         r.threads = g.threads();
-        r.pairs = io::count_pairs(lists, filter);
-        for (std::size_t i = 0; i < lists.rows(); ++i)
-            r.max_neighbors = std::max<std::size_t>(r.max_neighbors, lists.row(i).size());
-        r.mean_neighbors = lists.rows() ? double(lists.size()) / double(lists.rows()) : 0.0;
+        finish_lists(a, lists, r, clock);
     });
     print_report(a, r);
 }
@@ -283,6 +338,8 @@ const register_command query_command{"query", [](CLI::App& app) {
     cmd->add_flag("--self", args->self, "Include each point as its own neighbor (pair (i,i), distance 0)");
     cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", args->json, "Print the summary as one JSON object");
+    cmd->add_option("--backend", args->backend, "Where the search runs: cpu, or vulkan (float precision)")
+        ->check(CLI::IsMember({"cpu", "vulkan"}));
     cmd->callback([args] { run_query(*args); });
 }};
 

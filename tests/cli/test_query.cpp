@@ -234,3 +234,30 @@ TEST(cli_query, generated_point_sets) {
 
 }  // namespace
 }  // namespace frnn::test
+
+namespace frnn::test {
+namespace {
+
+// The Vulkan backend (lavapipe in CI) writes the same files as the CPU for float input.
+TEST(cli_query, vulkan_backend_writes_the_cpu_files) {
+#ifndef FRNN_TOOL_HAS_VULKAN
+    GTEST_SKIP() << "frnn was built without the Vulkan backend";
+#else
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<float, 3>(500, 6.0, 11);
+    write_points<float, 3>(dir / "p.npy", xyz);
+    for (const char* out : {"cpu.npy", "cpu.csv"}) {
+        const tool_result r = run_tool(dir, std::string("query p.npy -r 1 -o ") + out);
+        ASSERT_EQ(r.code, 0) << r.err;
+    }
+    const tool_result gpu = run_tool(dir, "query p.npy -r 1 --backend vulkan -o gpu.npy");
+    if (gpu.code != 0 && gpu.err.find("Vulkan") != std::string::npos) GTEST_SKIP() << "no Vulkan device: " << gpu.err;
+    ASSERT_EQ(gpu.code, 0) << gpu.err;
+    ASSERT_EQ(run_tool(dir, "query p.npy -r 1 --backend vulkan -o gpu.csv").code, 0);
+    EXPECT_EQ(read_bytes(dir / "gpu.npy"), read_bytes(dir / "cpu.npy"));
+    EXPECT_EQ(read_bytes(dir / "gpu.csv"), read_bytes(dir / "cpu.csv"));
+#endif
+}
+
+}  // namespace
+}  // namespace frnn::test
