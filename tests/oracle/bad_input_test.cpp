@@ -101,8 +101,14 @@ TEST(OracleBadInput, PeriodicBox) {
             grid_options opt;
             opt.kind = kind;
             opt.periodic = box;
-            std::string what = "kind=" + kind_name(kind) + " box";
-            for (double v : box) what += " " + std::to_string(v);
+            // Appended piece by piece: g++ 12 warns falsely (-Wrestrict) on "..." + string here.
+            std::string what = "kind=";
+            what += kind_name(kind);
+            what += " box";
+            for (double v : box) {
+                what += ' ';
+                what += std::to_string(v);
+            }
             expect_error([&] { grid<double, 3> g(pts, 1.0, opt); }, {"periodic"}, what);
         }
     }

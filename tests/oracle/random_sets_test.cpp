@@ -28,14 +28,14 @@ void run_all_kinds_and_cells(const std::vector<T>& pts, T r, std::uint64_t seed)
 
 template <class T, int D>
 void uniform_case(std::uint64_t seed) {
-    const std::size_t n = D == 2 ? 600 : 700;
+    const std::size_t n = 500;
     const T r = D == 2 ? T(1) : T(1.5);
-    run_all_kinds_and_cells<T, D>(uniform_points<T, D>(n, 0, 10, seed), r, seed + 1);
+    run_all_kinds_and_cells<T, D>(uniform_points<T, D>(n, 0, D == 2 ? 10 : 8, seed), r, seed + 1);
 }
 
 template <class T, int D>
 void clustered_case(std::uint64_t seed) {
-    const std::size_t n = D == 2 ? 600 : 700;
+    const std::size_t n = 500;
     // Bounding box about 20 wide: even r/4 cells stay a small dense grid in 3D.
     const T r = D == 2 ? T(0.6) : T(1);
     run_all_kinds_and_cells<T, D>(clustered_points<T, D>(n, 6, 1.0, -8, 8, seed), r, seed + 1);
