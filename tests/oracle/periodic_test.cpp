@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "oracle/oracle_check.hpp"
 #include "oracle/point_sets.hpp"
@@ -91,6 +92,42 @@ TEST(OraclePeriodic, LatticeExactDistances) {
     lattice_case<float, 2>(9, 3);
     lattice_case<float, 3>(4, 2);
     lattice_case<double, 3>(7, 2);
+}
+
+// Points outside [0, L) (the documented box) or on its faces: the grid may wrap them or reject
+// them with frnn::error, but never give a pair the minimum-image oracle does not.
+template <class T, int D>
+void outside_box_case(std::vector<T> pts, const std::vector<double>& box, T r, const std::string& what) {
+    SCOPED_TRACE(what);
+    for (double f : {1.0, 0.25}) {
+        grid_options opt;
+        opt.periodic = box;
+        opt.cell_size = double(r) * f;
+        opt.threads = 1;
+        std::optional<grid<T, D>> g;
+        try {
+            g.emplace(pts, r, opt);
+        } catch (const frnn::error&) {
+            continue;
+        }
+        check_grid<T, D>(*g, pts, r, box, query_points<T, D>(pts, r, 30, box, 91), depth_for_cell(f));
+    }
+}
+
+TEST(OraclePeriodic, PointsOnAndOutsideTheBox) {
+    const std::vector<double> box = {10, 6};
+    // Faces, the largest value below L, tiny negatives (v + L rounds to L), -0.
+    std::vector<double> faces = {0, 0, 10, 6, std::nextafter(10.0, 0.0), std::nextafter(6.0, 0.0),
+                                 -1e-17, -1e-17, -0.0, 3, 9.5, 5.5, 0.5, 0.5, 10, 0};
+    outside_box_case<double, 2>(faces, box, 1.0, "faces, double");
+    std::vector<float> ffaces(faces.begin(), faces.end());
+    ffaces.push_back(std::nextafter(10.0f, 0.0f));
+    ffaces.push_back(-1e-7f);
+    outside_box_case<float, 2>(ffaces, box, 1.0f, "faces, float");
+    // Whole images away: [-2L, 3L).
+    auto far = uniform_points<double, 2>(300, -20, 30, 92);
+    outside_box_case<double, 2>(far, box, 1.0, "images away");
+    outside_box_case<double, 2>({0, 0, 1e300, 0.5}, box, 1.0, "1e300 boxes away");
 }
 
 // Every point's number of neighbors on a periodic lattice is the same (translation invariance):
