@@ -1,6 +1,8 @@
 // Stage timing table and Chrome trace output.
 #include "frnn/sim/profiler.hpp"
 
+#include <time.h>
+
 #include <cstdio>
 #include <sstream>
 
@@ -25,6 +27,12 @@ const char* to_string(stage s) {
     return "?";
 }
 
+double profiler::cpu_now() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 profiler::profiler(bool trace, int max_threads) : trace_(trace), events_(std::size_t(std::max(1, max_threads))) {}
 
 void profiler::span(stage s, int thread, double t0, double t1) {
@@ -47,18 +55,21 @@ double profiler::mean_step_ms() const {
 std::string profiler::table() const {
     std::ostringstream o;
     char line[160];
-    std::snprintf(line, sizeof line, "%-24s %12s %8s\n", "stage", "ms/step", "share");
+    std::snprintf(line, sizeof line, "%-24s %12s %8s %14s\n", "stage", "ms/step", "share", "cpu ms/step");
     o << line;
     double all = 0;
     for (double t : total_) all += t;
     for (std::size_t i = 0; i < total_.size(); ++i) {
         if (total_[i] == 0) continue;
-        std::snprintf(line, sizeof line, "%-24s %12.3f %7.1f%%\n", to_string(stage(i)), mean_ms(stage(i)),
-                      all > 0 ? 100 * total_[i] / all : 0.0);
+        std::snprintf(line, sizeof line, "%-24s %12.3f %7.1f%% %14.3f\n", to_string(stage(i)), mean_ms(stage(i)),
+                      all > 0 ? 100 * total_[i] / all : 0.0, mean_cpu_ms(stage(i)));
         o << line;
     }
-    std::snprintf(line, sizeof line, "%-24s %12.3f\n%-24s %12.3f\n", "step (without output)", mean_step_ms(),
-                  "total", steps_ ? 1e3 * all / double(steps_) : 0.0);
+    double cpu_all = 0, cpu_out = cpu_[std::size_t(stage::output)];
+    for (double t : cpu_) cpu_all += t;
+    const double per = steps_ ? 1e3 / double(steps_) : 0;
+    std::snprintf(line, sizeof line, "%-24s %12.3f %8s %14.3f\n%-24s %12.3f %8s %14.3f\n", "step (without output)", mean_step_ms(), "",
+                  (cpu_all - cpu_out) * per, "total", all * per, "", cpu_all * per);
     o << line;
     return o.str();
 }

@@ -190,7 +190,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
     std::size_t frames_since_checkpoint = 0;
 
     auto write_frame = [&] {
-        const double t0 = prof.now();
+        const stage_timer timer(prof, stage::output);
         const particle_view v = sol.view();
         const std::size_t k = st.frames.size();
         if (opt.write_frames) {
@@ -202,7 +202,6 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         }
         if (opt.png || opt.video)
             write_file_atomic(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed)));
-        prof.add(stage::output, prof.now() - t0);
     };
     auto record_front = [&] {
         if (!sc.front.enabled) return;
@@ -248,9 +247,8 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         if (frame_due) {
             write_frame();
             if (++frames_since_checkpoint >= std::size_t(sc.output.checkpoint_every) && !done()) {
-                const double t0 = prof.now();
+                const stage_timer timer(prof, stage::output);
                 save_checkpoint(dir, st, sol);
-                prof.add(stage::output, prof.now() - t0);
                 frames_since_checkpoint = 0;
             }
         }
@@ -289,9 +287,12 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
     summary["frames"] = res.frames;
     summary["wall_seconds"] = wall;
     summary["resumed"] = resumed;
-    json stages = json::object();
+    json stages = json::object(), cpu = json::object();
     for (const auto& [name, ms] : res.stage_ms) stages[name] = ms;
+    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
+        if (prof.total_seconds(stage(s)) > 0) cpu[to_string(stage(s))] = prof.mean_cpu_ms(stage(s));
     summary["mean_ms_per_step"] = stages;
+    summary["mean_process_cpu_ms_per_step"] = cpu;
     summary["step_ms_without_output"] = res.step_ms;
     if (sc.front.enabled && !st.front.empty()) {
         std::ostringstream csv;

@@ -102,6 +102,9 @@ private:
         }
         double dt = std::min(prm_.max_dt, prm_.cfl * h_ / (c0_ + std::sqrt(vmax2)));
         if (amax2 > 0) dt = std::min(dt, 0.25 * std::sqrt(h_ / std::sqrt(amax2)));
+        if (dt < 1e-3 * std::min(prm_.max_dt, prm_.cfl * h_ / c0_))
+            throw error("simulation unstable at step " + std::to_string(this->steps_ + 1) + ": a particle moves at " +
+                        std::to_string(std::sqrt(vmax2)) + " m/s, the time step collapsed to " + std::to_string(dt) + " s");
         return dt;
     }
 

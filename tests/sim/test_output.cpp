@@ -132,7 +132,7 @@ TEST(SimOutput, ChromeTraceHasSpansPerStageAndThread) {
     std::set<std::pair<std::string, int>> seen;
     for (const auto& e : trace["traceEvents"])
         if (e["ph"] == "X") seen.insert({e["name"].get<std::string>(), e["tid"].get<int>()});
-    for (const char* stage : {"density relaxation", "collisions", "integration"}) {
+    for (const char* stage : {"density relaxation", "collisions", "viscosity"}) {
         EXPECT_TRUE(seen.count({stage, 0})) << stage;
         EXPECT_TRUE(seen.count({stage, 1})) << stage;
     }

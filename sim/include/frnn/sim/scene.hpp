@@ -34,7 +34,7 @@ struct fluid_block {
 struct viscoelastic_params {
     double h_ratio = 2.0;        ///< interaction radius h = h_ratio * particle spacing
     double dt = 0.004;           ///< time step [s] (the largest, with cfl > 0)
-    double cfl = 0.25;           ///< > 0: dt <= cfl * h / max speed
+    double cfl = 0.25;           ///< > 0: dt <= cfl * h / max speed (0.6 cfl in 2D)
     double stiffness = 0.1;      ///< pressure (k)
     double near_stiffness = 0.2; ///< near pressure (k_near)
     double rest_density = 0;     ///< 0: the density of the initial lattice
