@@ -218,6 +218,42 @@ std::string settings_text(const config& cfg) {
 
 }  // namespace
 
+void parse_sizes(std::string_view text, config& cfg) {
+    if (text.empty()) return;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        std::string item(text.substr(start, comma - start));
+        start = comma + 1;
+        std::string id;
+        if (const auto eq = item.find('='); eq != std::string::npos) {
+            id = find_workload(item.substr(0, eq)).id;
+            item = item.substr(eq + 1);
+        }
+        std::size_t used = 0;
+        unsigned long long value = 0;
+        try {
+            value = std::stoull(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != item.size() || item.find('-') != std::string::npos)
+            throw error("bench: --n: '" + item + "' is not a size (expected N or W2=N)");
+        (id.empty() ? cfg.sizes : cfg.workload_sizes[id]).push_back(std::size_t(value));
+    }
+}
+
+std::vector<std::size_t> sizes_for(const config& cfg, const std::string& id) {
+    const auto own = cfg.workload_sizes.find(id);
+    const auto& chosen = own != cfg.workload_sizes.end() ? own->second
+                         : cfg.sizes.empty()          ? find_workload(id).sizes
+                                                      : cfg.sizes;
+    std::vector<std::size_t> out;
+    for (std::size_t s : chosen)
+        if (std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
+    return out;
+}
+
 report run(const config& cfg) {
     if (cfg.repeat < 1) throw error("bench: --repeat must be >= 1");
     if (cfg.threads.empty()) throw error("bench: --threads needs at least one value");
@@ -225,14 +261,16 @@ report run(const config& cfg) {
         if (t < 1) throw error("bench: --threads values must be >= 1, got " + std::to_string(t));
     if (cfg.cell_factor != 0 && !(cfg.cell_factor >= 0.25 && cfg.cell_factor <= 1))
         throw error("bench: --cell must lie in [0.25, 1] (a fraction of r)");
+    for (const auto& [id, sizes] : cfg.workload_sizes)
+        if (std::find(cfg.workloads.begin(), cfg.workloads.end(), id) == cfg.workloads.end())
+            throw error("bench: --n gives sizes for " + id + ", which --workload does not select");
     // Resolve every workload and size before the first (long) measurement.
     std::vector<std::pair<const workload*, std::size_t>> plan;
     for (const auto& id : cfg.workloads) {
         const workload& w = find_workload(id);
-        for (std::size_t size : cfg.sizes.empty() ? w.sizes : cfg.sizes) {
+        for (std::size_t size : sizes_for(cfg, w.id)) {
             point_count(w, size);  // throws for a size that gives no points or too many
-            if (std::find(plan.begin(), plan.end(), std::pair{&w, size}) == plan.end())
-                plan.emplace_back(&w, size);
+            plan.emplace_back(&w, size);
         }
     }
 

@@ -22,7 +22,7 @@ namespace {
 
 struct bench_args {
     std::string workloads = "all";
-    std::vector<std::size_t> sizes;
+    std::string sizes;
     std::vector<int> threads{1, 2};
     int repeat = 5;
     std::string backend = "cpu";
@@ -45,7 +45,7 @@ std::string join(const std::vector<V>& values) {
 // The canonical command line of the run, recorded in the report so it can be reproduced.
 std::string command_line(const bench_args& a) {
     std::string s = "frnn bench --workload " + a.workloads;
-    if (!a.sizes.empty()) s += " --n " + join(a.sizes);
+    if (!a.sizes.empty()) s += " --n " + a.sizes;
     s += " --threads " + join(a.threads) + " --repeat " + std::to_string(a.repeat);
     if (a.backend != "cpu") s += " --backend " + a.backend;
     if (a.precision != "float") s += " --precision " + a.precision;
@@ -61,7 +61,7 @@ void run_bench(bench_args a) {
         throw error("bench: backend '" + a.backend + "' is not available (only cpu)");
     bench::config cfg;
     cfg.workloads = bench::parse_workload_list(a.workloads);
-    cfg.sizes = a.sizes;
+    bench::parse_sizes(a.sizes, cfg);
     std::vector<int> threads;
     for (int t : a.threads)
         if (std::find(threads.begin(), threads.end(), t) == threads.end()) threads.push_back(t);
@@ -97,9 +97,9 @@ const register_command reg{"bench", [](CLI::App& app) {
     sub->add_option("--workload", args->workloads, "W1..W5, all, or a comma list (W1,W2)")
         ->capture_default_str();
     sub->add_option("--n", args->sizes,
-                    "sizes (comma list) replacing the workloads' defaults: the lattice side for "
-                    "W1, W4, W5; the number of points for W2, W3")
-        ->delimiter(',');
+                    "sizes replacing the workloads' defaults, a comma list of N (every workload) "
+                    "or W=N (one workload, e.g. W1=100,W2=1000000); N is the lattice side for "
+                    "W1, W4, W5 and the number of points for W2, W3");
     sub->add_option("--threads", args->threads, "thread counts, comma list")
         ->delimiter(',')
         ->capture_default_str();

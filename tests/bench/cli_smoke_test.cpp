@@ -115,6 +115,16 @@ TEST(BenchCli, LatticeWorkloadsAgreeAcrossMethods) { smoke("W1,W4,W5", 8, "latti
 
 TEST(BenchCli, PointCountWorkloadsAgreeAcrossMethods) { smoke("W2,W3", 3000, "points"); }
 
+TEST(BenchCli, OneSizePerWorkload) {
+    const std::string csv = work_file("smoke_sizes.csv");
+    ASSERT_EQ(run("bench --workload W1,W2 --n W1=5,W2=200 --threads 1 --repeat 1 --csv '" + csv +
+                  "' > /dev/null 2>&1"),
+              0);
+    const std::string text = slurp(csv);
+    EXPECT_NE(text.find("\nW1,125,1,frnn,count,"), std::string::npos);
+    EXPECT_NE(text.find("\nW2,200,1,frnn,count,"), std::string::npos);
+}
+
 TEST(BenchCli, PlotIsAPngOrSaysWhyNot) {
     const std::string png = work_file("smoke.png"), log = work_file("smoke_plot.log");
     std::remove(png.c_str());
@@ -136,6 +146,7 @@ TEST(BenchCli, BadArgumentsFailCleanly) {
     EXPECT_EQ(run("bench --workload W1 --n 4 --threads 0 > /dev/null 2>&1"), 1);
     EXPECT_EQ(run("bench --workload W1 --n 4 --backend vulkan > /dev/null 2>&1"), 1);
     EXPECT_EQ(run("bench --workload W1 --n 4 --repeat 0 > /dev/null 2>&1"), 2);
+    EXPECT_EQ(run("bench --workload W1 --n W2=1000 > /dev/null 2>&1"), 1);  // W2 not selected
     // An unwritable output fails with a message and leaves no file behind.
     EXPECT_EQ(run("bench --workload W1 --n 4 --repeat 1 --csv /nonexistent-dir/x.csv > /dev/null 2>&1"), 1);
 }

@@ -97,3 +97,18 @@ TEST(BenchWorkloads, MotionIsSmallAndNotZero) {
     EXPECT_LE(biggest, 0.0501);
     EXPECT_GT(moved, p.size() * 9 / 10);
 }
+
+#include "frnn/bench/runner.hpp"
+
+TEST(BenchWorkloads, SizesForAllOrForOneWorkload) {
+    fb::config cfg;
+    fb::parse_sizes("", cfg);
+    EXPECT_EQ(fb::sizes_for(cfg, "W2"), fb::find_workload("W2").sizes);
+    fb::parse_sizes("8,w2=1000,6,W2=1000,W2=27", cfg);
+    EXPECT_EQ(fb::sizes_for(cfg, "W1"), (std::vector<std::size_t>{8, 6}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W2"), (std::vector<std::size_t>{1000, 27}));
+    for (const char* bad : {"x", "8,", "W9=4", "W1=", "-3", "4.5"}) {
+        fb::config c;
+        EXPECT_THROW(fb::parse_sizes(bad, c), frnn::error) << bad;
+    }
+}

@@ -5,8 +5,10 @@
 // brute force. Not thread-safe: it resets the process's peak-RSS counter.
 #pragma once
 #include <cstddef>
+#include <map>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "frnn/bench/results.hpp"
@@ -19,6 +21,8 @@ struct config {
     /// Sizes applied to every workload (lattice side for W1/W4/W5, points for W2/W3);
     /// empty: each workload's default sizes.
     std::vector<std::size_t> sizes;
+    /// Sizes for one workload ("W2" -> {1000000}); they win over `sizes`.
+    std::map<std::string, std::vector<std::size_t>> workload_sizes;
     std::vector<int> threads{1, 2};  ///< frnn grid threads (and nanoflann's query threads)
     int repeat = 5;                  ///< timed runs per phase, after one warm-up
     bool baselines = false;
@@ -29,6 +33,13 @@ struct config {
     std::string command;             ///< recorded in the report
     std::ostream* progress = nullptr;  ///< one line per step, and the VOID lines
 };
+
+/// Parses the --n text into `cfg`: a comma list of sizes for every workload ("32,64") and/or
+/// for one workload ("W1=100,W2=1000000"). Throws frnn::error for anything else.
+void parse_sizes(std::string_view text, config& cfg);
+
+/// The sizes `cfg` asks of workload `id`, in order, without repeats.
+std::vector<std::size_t> sizes_for(const config& cfg, const std::string& id);
 
 /// Runs everything `cfg` asks for; throws frnn::error for bad settings or failures.
 report run(const config& cfg);
