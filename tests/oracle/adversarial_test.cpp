@@ -37,10 +37,10 @@ void lattice_case(int side, double step, double origin, double radius) {
 }
 
 TEST(OracleAdversarial, LatticeAtExactlyRadius2D) {
-    lattice_case<double, 2>(20, 1, 0, 1);
-    lattice_case<double, 2>(20, 1, -7, 2);
-    lattice_case<float, 2>(20, 1, 3, 3);
-    lattice_case<float, 2>(24, 0.5, -4, 1);  // step 0.5 and r = 2 steps: still exact
+    lattice_case<double, 2>(16, 1, 0, 1);
+    lattice_case<double, 2>(16, 1, -7, 2);
+    lattice_case<float, 2>(16, 1, 3, 3);
+    lattice_case<float, 2>(16, 0.5, -4, 1);  // step 0.5 and r = 2 steps: still exact
 }
 
 TEST(OracleAdversarial, LatticeAtExactlyRadius3D) {
@@ -70,9 +70,9 @@ TEST(OracleAdversarial, LatticeInteriorCountFromGeometry) {
 }
 
 TEST(OracleAdversarial, AllPointsInOneCell) {
-    every_grid<double, 3>(uniform_points<double, 3>(150, 5, 5.2, 71), 1.0,
+    every_grid<double, 3>(uniform_points<double, 3>(100, 5, 5.2, 71), 1.0,
                           uniform_points<double, 3>(30, 4, 6, 72));
-    every_grid<float, 2>(uniform_points<float, 2>(150, -3, -2.9f, 73), 0.5f,
+    every_grid<float, 2>(uniform_points<float, 2>(100, -3, -2.9f, 73), 0.5f,
                          uniform_points<float, 2>(30, -4, -2, 74));
 }
 
@@ -222,7 +222,7 @@ TEST(OracleAdversarial, HashSlotCollisions) {
         }
     }
     // Many sparse cells: birthday collisions in any table of O(N) slots.
-    const auto sparse = sparse_cells<float, 2>(1500, 0.5, 200, 143);
+    const auto sparse = sparse_cells<float, 2>(800, 0.5, 150, 143);
     every_grid<float, 2>(sparse, 0.5f, query_points<float, 2>(sparse, 0.5, 50, {}, 144));
 }
 
