@@ -24,7 +24,9 @@ struct grid_options {
     /// (2*ceil(r/cell)+1)^d cells but test fewer candidates. Must lie in [r/4, r].
     double cell_size = 0;
     /// Empty: open boundaries. Otherwise one box length per axis: the box is [0, L) on each
-    /// axis, distances use the minimum image, and every length must be >= 2 r.
+    /// axis, distances use the minimum image, and every length must be >= 2 r. A periodic box
+    /// is bounded, so it always uses the uniform grid (`kind` is then ignored); very sparse
+    /// boxes get larger cells instead of more of them.
     std::vector<double> periodic;
     /// Optional bounds of the uniform grid (one value per axis, both or neither). Points
     /// outside are still handled exactly (they share the border cells). Default: bounding box.

@@ -175,7 +175,7 @@ csr<T> assemble(std::vector<chunk_rows<T>>& chunks, std::size_t rows, std::size_
         chunks[c] = chunk_rows<T>{};  // release the chunk's memory early
     });
     if (order == row_order::none) return out;
-    const std::size_t parts = detail::chunk_count(rows, threads, 256);
+    const std::size_t parts = detail::chunk_count(rows, threads, 4096);
     detail::for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
         std::vector<std::pair<T, std::uint32_t>> tmp;
         for (std::size_t r = b; r < e; ++r) {
