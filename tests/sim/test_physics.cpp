@@ -15,12 +15,16 @@
 using namespace frnn::sim;
 
 TEST(SimPhysics, HydrostaticColumnPressureMatchesRhoGDepth) {
-    for (const char* integrator : {"symplectic-euler", "leapfrog"}) {
+    // Both integrators with the Tait equation of state, and the linear (ideal-gas) form.
+    const std::pair<const char*, const char*> configs[] = {
+        {"symplectic-euler", "tait"}, {"leapfrog", "tait"}, {"symplectic-euler", "ideal"}};
+    for (const auto& [integrator_name, eos] : configs) {
+        const std::string integrator = std::string(integrator_name) + " " + eos;
         const std::string text = std::string(R"({"name": "column", "solver": "sph", "dim": 2, "particles": 400,
           "domain": {"min": [0, 0, 0], "max": [0.1, 0.2, 0.1]},
           "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}],
           "colliders": [{"type": "box", "inside": true, "center": [0.05, 0.1, 0.05], "half": [0.05, 0.1, 0.05]}],
-          "sph": {"alpha": 0.2, "integrator": ")") + integrator + R"("}})";
+          "sph": {"alpha": 0.2, "integrator": ")") + integrator_name + R"(", "eos": ")" + eos + R"("}})";
         const scene s = parse_scene(text, "column");
         auto sol = make_solver(s, 2);
         profiler p;
@@ -53,7 +57,7 @@ TEST(SimPhysics, HydrostaticColumnPressureMatchesRhoGDepth) {
         EXPECT_NEAR(top_sum / samples, 0.1, 0.1 * 0.03) << integrator;  // neither collapsed nor rose
         EXPECT_NEAR(slope_sum / samples / (rho0 * g), 1.0, 0.1) << integrator;
         EXPECT_NEAR(bottom_sum / samples, 1.0, 0.08) << integrator;
-        std::printf("[ %s ] dp/d(depth) = %.3f rho0 g, bottom pressure = %.3f rho0 g H\n", integrator,
+        std::printf("[ %s ] dp/d(depth) = %.3f rho0 g, bottom pressure = %.3f rho0 g H\n", integrator.c_str(),
                     slope_sum / samples / (rho0 * g), bottom_sum / samples);
     }
 }

@@ -40,7 +40,7 @@ struct viscoelastic_params {
     double rest_density = 0;     ///< 0: the density of the initial lattice
     double sigma = 0, beta = 0.2;
     bool springs = false;        ///< elasticity with plasticity
-    double spring_stiffness = 0.3;  ///< dimensionless: fraction of (L - r) corrected per step
+    double spring_stiffness = 0.05; ///< dimensionless: fraction of (L - r) corrected per step
     double yield_ratio = 0.1, plasticity = 0.3;
 };
 
