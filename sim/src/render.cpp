@@ -80,19 +80,19 @@ void speed_color(double t, double rgb[3]) {
 
 }  // namespace
 
-image render(const particle_view& p, const scene& s, double particle_radius, int w, int h, double max_speed) {
+image render(const particle_view& p, const scene& s, double particle_radius, int w, int h, double max_speed, double t) {
     image img;
     img.width = w;
     img.height = h;
     img.rgb.resize(std::size_t(w) * std::size_t(h) * 3);
     std::vector<float> zbuf(std::size_t(w) * std::size_t(h), std::numeric_limits<float>::infinity());
     for (int y = 0; y < h; ++y) {
-        const double t = double(y) / h;
+        const double fy = double(y) / h;
         for (int x = 0; x < w; ++x) {
             std::uint8_t* px = &img.rgb[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * 3];
-            px[0] = std::uint8_t(235 - 60 * t);
-            px[1] = std::uint8_t(238 - 55 * t);
-            px[2] = std::uint8_t(242 - 40 * t);
+            px[0] = std::uint8_t(235 - 60 * fy);
+            px[1] = std::uint8_t(238 - 55 * fy);
+            px[2] = std::uint8_t(242 - 40 * fy);
         }
     }
     const camera cam = make_camera(s, w, h);
@@ -107,15 +107,12 @@ image render(const particle_view& p, const scene& s, double particle_radius, int
     }
     if (vmax <= 0) vmax = 1;
     const vec3 light = norm3({-0.4, 0.8, 0.6});
-    for (std::size_t i = 0; i < p.n; ++i) {
-        vec3 pos{0, 0, 0};
-        for (std::size_t a = 0; a < D; ++a) pos[a] = p.x[i * D + a];
+    // A shaded sphere of world radius `radius` at `pos`, depth-tested.
+    auto splat = [&](const vec3& pos, double radius, const double base[3]) {
         double sx, sy, depth;
-        if (!cam.project(pos, sx, sy, depth)) continue;
-        const double rpx = cam.ortho ? particle_radius * cam.scale : particle_radius * cam.focal / depth;
+        if (!cam.project(pos, sx, sy, depth)) return;
+        const double rpx = cam.ortho ? radius * cam.scale : radius * cam.focal / depth;
         const double rr = std::max(rpx, 0.7);
-        double base[3];
-        speed_color(speed[i] / vmax, base);
         const int x0 = std::max(0, int(std::floor(sx - rr))), x1 = std::min(w - 1, int(std::ceil(sx + rr)));
         const int y0 = std::max(0, int(std::floor(sy - rr))), y1 = std::min(h - 1, int(std::ceil(sy + rr)));
         for (int y = y0; y <= y1; ++y)
@@ -123,7 +120,7 @@ image render(const particle_view& p, const scene& s, double particle_radius, int
                 const double dx = (x + 0.5 - sx) / rr, dy = (y + 0.5 - sy) / rr, d2 = dx * dx + dy * dy;
                 if (d2 > 1) continue;
                 const double nz = std::sqrt(1 - d2);
-                const float z = float(depth - nz * (cam.ortho ? 0 : particle_radius));
+                const float z = float(depth - nz * (cam.ortho ? 0 : radius));
                 float& zb = zbuf[std::size_t(y) * std::size_t(w) + std::size_t(x)];
                 if (z >= zb) continue;
                 zb = z;
@@ -138,10 +135,35 @@ image render(const particle_view& p, const scene& s, double particle_radius, int
                 for (int c = 0; c < 3; ++c)
                     px[c] = std::uint8_t(std::clamp((base[c] * (0.35 + 0.65 * lam) + spec) * 255.0, 0.0, 255.0));
             }
+    };
+    std::vector<std::pair<vec3, vec3>> edges;
+    const double grey[3] = {0.62, 0.6, 0.58};
+    for (const auto& c : collider_set(s.colliders).at(t)) {
+        const collider& d = c.desc();
+        if (d.kind == shape::sphere && !d.inside) splat(c.to_world({0, 0, 0}), d.radius, grey);
+        if (d.kind == shape::box && !d.inside) {
+            for (int a = 0; a < 8; ++a)
+                for (int b = a + 1; b < 8; ++b) {
+                    const int diff = a ^ b;
+                    if (diff != 1 && diff != 2 && diff != 4) continue;
+                    auto corner = [&](int k) {
+                        vec3 l{k & 1 ? d.half[0] : -d.half[0], k & 2 ? d.half[1] : -d.half[1], k & 4 ? d.half[2] : -d.half[2]};
+                        if (s.dim == 2) l[2] = 0;
+                        return c.to_world(l);
+                    };
+                    edges.emplace_back(corner(a), corner(b));
+                }
+        }
+    }
+    for (std::size_t i = 0; i < p.n; ++i) {
+        vec3 pos{0, 0, 0};
+        for (std::size_t a = 0; a < D; ++a) pos[a] = p.x[i * D + a];
+        double base[3];
+        speed_color(speed[i] / vmax, base);
+        splat(pos, particle_radius, base);
     }
     // The domain's edges, depth-tested.
     const vec3 lo = s.domain_min, hi = s.domain_max;
-    std::vector<std::pair<vec3, vec3>> edges;
     const int corners = s.dim == 2 ? 4 : 8;
     for (int a = 0; a < corners; ++a)
         for (int b = a + 1; b < corners; ++b) {
@@ -154,8 +176,8 @@ image render(const particle_view& p, const scene& s, double particle_radius, int
     for (const auto& [a, b] : edges) {
         const int samples = 2 * (w + h);
         for (int k = 0; k <= samples; ++k) {
-            const double t = double(k) / samples;
-            const vec3 q{a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t, a[2] + (b[2] - a[2]) * t};
+            const double u = double(k) / samples;
+            const vec3 q{a[0] + (b[0] - a[0]) * u, a[1] + (b[1] - a[1]) * u, a[2] + (b[2] - a[2]) * u};
             double sx, sy, depth;
             if (!cam.project(q, sx, sy, depth)) continue;
             const int x = int(sx), y = int(sy);

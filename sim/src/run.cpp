@@ -201,7 +201,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
             st.frames.emplace_back(sol.time(), "");
         }
         if (opt.png || opt.video)
-            write_file_atomic(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed)));
+            write_file_atomic(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
     };
     auto record_front = [&] {
         if (!sc.front.enabled) return;

@@ -144,8 +144,9 @@ private:
             for_each_close(i, [&](std::size_t j, const float* r, float inv_len, float q) {
                 float u = 0;
                 for (int a = 0; a < D; ++a) u += (v_[i * D + a] - v_[j * D + a]) * r[a];
-                u *= inv_len;
-                if (u <= 0) return;
+                // Only approaching pairs (u > 0) feel the impulse; branch-free, as u's sign is
+                // unpredictable.
+                u = std::max(0.f, u * inv_len);
                 const float imp = 0.5f * dt * (1 - q) * (sigma * u + beta * u * u) * inv_len;
                 for (int a = 0; a < D; ++a) dv[a] -= imp * r[a];
             });

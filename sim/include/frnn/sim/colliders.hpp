@@ -59,6 +59,11 @@ public:
     template <class F>
     void for_each_wall(const vec3& x, double reach, F&& f) const;
     const collider& desc() const { return *c_; }
+    /// World position of a point given in the collider's own frame (for drawing).
+    vec3 to_world(const vec3& local) const {
+        const vec3 d = to_world_dir(local);
+        return {center_[0] + d[0], center_[1] + d[1], center_[2] + d[2]};
+    }
 
 private:
     vec3 to_local(const vec3& x) const;

@@ -29,8 +29,9 @@ struct image {
 /// Renders the particles as shaded splats colored by speed (blue slow, to white fast) from a
 /// fixed camera framing the scene's domain: an oblique perspective view in 3D, the xy plane in
 /// 2D. `max_speed` sets the color scale (0: from the frame).
+/// Sphere colliders are drawn as grey balls and box colliders by their edges, posed at time t.
 image render(const particle_view& p, const scene& s, double particle_radius, int width = 960, int height = 540,
-             double max_speed = 0);
+             double max_speed = 0, double t = 0);
 /// PNG encoding with stored (uncompressed) deflate blocks: no zlib needed.
 std::string encode_png(const image& img);
 /// Decodes the PNGs encode_png writes (stored blocks only), for tests.
