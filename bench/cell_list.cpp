@@ -52,15 +52,20 @@ cell_list<T, D>::cell_list(std::span<const T> coords, T radius) : coords_(coords
     for (int a = 0; a < D; ++a)
         dims_[a] = coords.empty() ? 1 : std::int64_t(cells_on_axis(hi[a] - lower_[a], double(radius)));
     const std::size_t n = coords.size() / D;
-    head_.assign(*cells, none);
-    next_.assign(n, none);
+    cells_.resize(*cells);
     for (std::size_t i = 0; i < n; ++i) {
         const auto c = cell_of(&coords[i * D]);
         std::size_t flat = 0;
         for (int a = D - 1; a >= 0; --a) flat = flat * std::size_t(dims_[a]) + std::size_t(c[a]);
-        next_[i] = head_[flat];
-        head_[flat] = std::uint32_t(i);
+        cells_[flat].push_back(std::uint32_t(i));
     }
+}
+
+template <class T, int D>
+std::size_t cell_list<T, D>::memory_bytes() const {
+    std::size_t bytes = cells_.size() * sizeof(cells_[0]);
+    for (const auto& cell : cells_) bytes += cell.capacity() * sizeof(std::uint32_t);
+    return bytes;
 }
 
 template <class T, int D>
@@ -91,7 +96,7 @@ void cell_list<T, D>::for_each_neighbor(std::size_t i, Emit&& emit) const {
             for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) {
                 std::size_t flat = std::size_t(cx) + std::size_t(dims_[0]) * std::size_t(cy);
                 if constexpr (D == 3) flat += std::size_t(dims_[0] * dims_[1]) * std::size_t(cz);
-                for (std::uint32_t j = head_[flat]; j != none; j = next_[j]) {
+                for (const std::uint32_t j : cells_[flat]) {
                     if (j == i) continue;
                     const T* y = &coords_[std::size_t(j) * D];
                     T d2 = 0;
