@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <algorithm>
 #include <map>
@@ -77,6 +78,12 @@ std::string plot_script(const report& rep, const std::string& png) {
     std::string plots;
     for (const auto& [workload, series] : panels) {
         std::string panel = "set title " + quoted(workload + ": build + full neighbor lists") + "\n";
+        // One size only: give the log axis a range around it (gnuplot refuses an empty one).
+        std::size_t lo = SIZE_MAX, hi = 0;
+        for (const auto& entry : series)
+            for (const auto& point : entry.second) lo = std::min(lo, point.first), hi = std::max(hi, point.first);
+        panel += lo == hi ? "set xrange [" + std::to_string(lo / 2) + ":" + std::to_string(hi * 2) + "]\n"
+                          : std::string("set autoscale x\n");
         std::string items;
         for (const auto& [key, points] : series) {
             const auto& [order, threads, method] = key;
