@@ -272,7 +272,8 @@ struct query_engine {
         return out;  // grid points: at their sorted positions
     }
 
-    /// Neighbor lists; `half_space` picks how "j > i" is judged (sorted or original numbering).
+    /// Neighbor lists of all grid points or of query points; with k_nearest > 0 at most that many
+    /// nearest per row. "j > i" of half lists is judged in the numbering `space` asks for.
     csr<T> lists(std::span<const T> queries, bool from_queries, const list_options& o, std::size_t k_nearest) const {
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
         const std::size_t parts = chunk_count(rows, threads, 2048);
