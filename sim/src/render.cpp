@@ -138,7 +138,8 @@ image render(const particle_view& p, const scene& s, double particle_radius, int
     };
     std::vector<std::pair<vec3, vec3>> edges;
     const double grey[3] = {0.62, 0.6, 0.58};
-    for (const auto& c : collider_set(s.colliders).at(t)) {
+    const collider_set colliders(s.colliders);  // owns what the posed colliders point to
+    for (const auto& c : colliders.at(t)) {
         const collider& d = c.desc();
         if (d.kind == shape::sphere && !d.inside) splat(c.to_world({0, 0, 0}), d.radius, grey);
         if (d.kind == shape::box && !d.inside) {
