@@ -6,4 +6,5 @@
 #include "frnn/grid.hpp"
 #include "frnn/options.hpp"
 #include "frnn/point_sets.hpp"
+#include "frnn/simd.hpp"
 #include "frnn/verlet_lists.hpp"

@@ -41,7 +41,7 @@ struct candidate_run {
 /// Upper bound of runs around one point: (2k+1)^d with k <= 4.
 inline constexpr std::size_t max_runs = 729;
 /// Extra values after the last sorted coordinate, so vector loads never leave the array.
-inline constexpr std::size_t coordinate_padding = 8;
+inline constexpr std::size_t coordinate_padding = 16;
 }  // namespace detail
 
 template <class T, int D>

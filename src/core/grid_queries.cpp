@@ -9,6 +9,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/sweep.hpp"
 #include "cpu/parallel.hpp"
 #include "cpu/run_kernels.hpp"
 #include "cpu/simd_mask.hpp"
@@ -259,9 +260,21 @@ struct query_engine {
         });
     }
 
+    /// Whether the cell sweep (sweep.hpp) serves a query: the grid's own points, open boundaries.
+    bool sweeps(bool from_queries) const { return !from_queries && !g.periodic(); }
+
     std::vector<std::uint32_t> counts(std::span<const T> queries, bool from_queries, bool self) const {
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
         std::vector<std::uint32_t> out(rows);
+        if (sweeps(from_queries)) {
+            sweep_job<T> job;
+            job.self = self;
+            job.counts = out.data();
+            const auto& kernels = sweep_for_cpu<T, D>();
+            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
+                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+            return out;  // at sorted positions
+        }
         const distance_kernel<T, D> kern(g);
         const std::uint32_t self_adjust = from_queries || self ? 0 : 1;
         walk(queries, from_queries, chunk_count(rows, threads, 2048),
@@ -275,6 +288,7 @@ struct query_engine {
     /// Neighbor lists of all grid points or of query points; with k_nearest > 0 at most that many
     /// nearest per row. "j > i" of half lists is judged in the numbering `space` asks for.
     csr<T> lists(std::span<const T> queries, bool from_queries, const list_options& o, std::size_t k_nearest) const {
+        if (sweeps(from_queries)) return swept_lists(o, k_nearest);
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
         const std::size_t parts = chunk_count(rows, threads, 2048);
         std::vector<chunk_rows<T>> chunks(parts);
@@ -331,6 +345,38 @@ struct query_engine {
             return out;
         }
         return assemble(chunks, rows, parts, threads, map, o.distances, order);
+    }
+
+    /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.
+    csr<T> swept_lists(const list_options& o, std::size_t k_nearest) const {
+        const std::size_t rows = g.size();
+        const auto perm = g.sorted_to_original();
+        const bool sorted_space = o.space == index_space::sorted;
+        sweep_job<T> job;
+        job.ids = sorted_space ? nullptr : perm.data();
+        job.half = o.half;
+        job.self = o.self;
+        job.k_nearest = k_nearest;
+        job.order = k_nearest > 0 ? row_order::distance : o.order;
+        std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
+        job.counts = sizes.data();
+        const auto& kernels = sweep_for_cpu<T, D>();
+        const std::size_t parts = chunk_count(rows, threads, 2048);
+        for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+
+        csr<T> out;
+        out.offsets.assign(rows + 1, 0);
+        for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
+            for (std::size_t s = b; s < e; ++s) out.offsets[sorted_space ? s : perm[s]] = sizes[s];
+        });
+        const std::uint64_t total = exclusive_scan(out.offsets.data(), rows + 1, threads);
+        out.indices.resize(total);
+        if (o.distances) out.distances.resize(total);
+        job.offsets = out.offsets.data();
+        job.indices = out.indices.data();
+        job.distances = o.distances ? out.distances.data() : nullptr;
+        for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.fill(g, job, b, e); });
+        return out;
     }
 
     /// Keeps the k nearest of the entries [start, used) of a chunk, ties broken by output index.

@@ -1,0 +1,52 @@
+// Self-queries of a grid (every point against all points), swept cell by cell: the candidates
+// of a cell's stencil are gathered once into one contiguous block padded to whole vectors, and
+// every point of the cell is tested against that block. Lists take two sweeps: row sizes, then
+// the rows written straight into the final CSR arrays, so no intermediate buffers exist and
+// each point only writes its own row: the output does not depend on the thread count.
+//
+// The kernels are compiled once per instruction-set level (sweep_base.cpp, sweep_avx2.cpp,
+// sweep_avx512.cpp) and chosen at run time.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+#include "frnn/grid.hpp"
+
+namespace frnn::detail {
+
+/// What a sweep computes. Neighbors of a point with id `me` are candidates within r whose id
+/// passes the list options: all but `me`, or only ids > me (half), with `me` itself if `self`.
+template <class T>
+struct sweep_job {
+    /// Id of each sorted point in the output, which is also its output row; null: the sorted
+    /// index itself.
+    const std::uint32_t* ids = nullptr;
+    bool half = false;
+    bool self = false;
+    std::size_t k_nearest = 0;  ///< > 0: keep that many nearest per row (rows by distance)
+    row_order order = row_order::none;
+
+    std::uint32_t* counts = nullptr;          ///< count sweep: row sizes by sorted index
+    const std::uint64_t* offsets = nullptr;   ///< fill sweep: row starts by output row
+    std::uint32_t* indices = nullptr;
+    T* distances = nullptr;                   ///< null: not wanted
+};
+
+template <class T, int D>
+struct sweep_kernels {
+    /// Row sizes of the sorted points [b, e) into job.counts.
+    void (*count)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// Rows of the sorted points [b, e), at job.offsets of their output rows.
+    void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+};
+
+/// The kernels of the level in use (see frnn/simd.hpp).
+template <class T, int D>
+const sweep_kernels<T, D>& sweep_for_cpu();
+
+// One table per compiled level.
+namespace base { template <class T, int D> const sweep_kernels<T, D>& table(); }
+namespace avx2 { template <class T, int D> const sweep_kernels<T, D>& table(); }
+namespace avx512 { template <class T, int D> const sweep_kernels<T, D>& table(); }
+
+}  // namespace frnn::detail

@@ -1,0 +1,20 @@
+// The cell sweep compiled for the "base" instruction-set level (see sweep.hpp).
+// Every header is included before the target region, so that only this level's own code
+// (namespace below) is compiled for it; library and standard templates keep the default target.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
+#include "core/sweep.hpp"
+
+#define FRNN_SWEEP_NS base
+#define FRNN_SWEEP_BYTES 16
+#include "core/sweep_impl.hpp"

@@ -1,0 +1,358 @@
+// The cell sweep of sweep.hpp, for one instruction-set level. Included by sweep_<level>.cpp,
+// which first includes every header this file needs, then opens the target region and defines
+// FRNN_SWEEP_NS (the level's namespace) and FRNN_SWEEP_BYTES (vector width in bytes). Everything
+// here lives in that namespace, so the levels never share a symbol.
+//
+// Distances are (dx*dx + dy*dy) + dz*dz with dx = candidate - point, rounded per operation
+// (the library is built without contraction into fused multiply-adds), so every level, the
+// brute-force oracle and the other query paths agree bit for bit.
+
+namespace frnn::detail::FRNN_SWEEP_NS {
+
+/// The block is padded to a multiple of this many values: the widest vector of floats.
+constexpr std::uint32_t block_multiple = 16;
+/// Id of no point: padding lanes and "no id to skip". Grids hold at most 2^32 - 2 points.
+constexpr std::uint32_t no_id = 0xFFFFFFFFu;
+
+template <class T>
+void grow(std::vector<T>& v, std::size_t n) {
+    if (v.size() < n) v.resize(n + n / 2);
+}
+
+/// Runs are short (a few dozen points), so they are copied in whole vectors rather than by
+/// library calls. Copies n values, reading and writing up to one vector past n: the grid pads
+/// its coordinate arrays and the block has that much slack.
+template <class U>
+void copy_padded(U* __restrict dst, const U* __restrict src, std::uint32_t n) {
+    for (std::uint32_t j = 0; j < n; j += FRNN_SWEEP_BYTES / sizeof(U)) std::memcpy(dst + j, src + j, FRNN_SWEEP_BYTES);
+}
+/// The same for an unpadded source: whole vectors, then the tail one by one.
+inline void copy_ids(std::uint32_t* __restrict dst, const std::uint32_t* __restrict src, std::uint32_t n) {
+    constexpr std::uint32_t w = FRNN_SWEEP_BYTES / 4;
+    std::uint32_t j = 0;
+    for (; j + w <= n; j += w) std::memcpy(dst + j, src + j, FRNN_SWEEP_BYTES);
+    for (; j < n; ++j) dst[j] = src[j];
+}
+/// dst[j] = first + j for j < n, writing up to one vector past n.
+inline void count_up(std::uint32_t* __restrict dst, std::uint32_t first, std::uint32_t n) {
+    constexpr std::uint32_t w = FRNN_SWEEP_BYTES / 4;
+    typedef std::uint32_t uvec __attribute__((vector_size(FRNN_SWEEP_BYTES)));
+    uvec v;
+    for (std::uint32_t l = 0; l < w; ++l) v[l] = first + l;
+    for (std::uint32_t j = 0; j < n; j += w, v += w) std::memcpy(dst + j, &v, FRNN_SWEEP_BYTES);
+}
+
+/// The candidates of one cell's stencil, contiguous: coordinates per axis and output ids.
+/// Padding lanes hold +infinity, so their distance never passes the test and the kernels need
+/// no tail handling.
+template <class T, int D>
+struct candidate_block {
+    std::vector<T> c[D];
+    std::vector<std::uint32_t> id;
+    std::uint32_t size = 0;
+    std::uint32_t padded = 0;
+
+    void gather(const grid<T, D>& g, const candidate_run* runs, std::size_t nruns, const std::uint32_t* ids) {
+        std::size_t total = 0;
+        for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
+        for (auto& axis : c) grow(axis, total + 2 * block_multiple);
+        grow(id, total + 2 * block_multiple);
+        T* __restrict dst[D];
+        for (int a = 0; a < D; ++a) dst[a] = c[a].data();
+        std::uint32_t* __restrict dst_id = id.data();
+        std::uint32_t m = 0;
+        for (std::size_t k = 0; k < nruns; ++k) {
+            const candidate_run& run = runs[k];
+            if (!run.filter) {
+                const std::uint32_t len = run.end - run.begin;
+                for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + run.begin, len);
+                if (ids) copy_ids(dst_id + m, ids + run.begin, len);
+                else count_up(dst_id + m, run.begin, len);
+                m += len;
+                continue;
+            }
+            // A hash slot shared by several cells: keep the points of the run's cell only.
+            for (std::uint32_t j = run.begin; j < run.end; ++j) {
+                std::array<T, D> q;
+                for (int a = 0; a < D; ++a) q[a] = g.sorted_coord(j, a);
+                if (g.cell_of(q) != run.cell) continue;
+                for (int a = 0; a < D; ++a) dst[a][m] = q[a];
+                dst_id[m++] = ids ? ids[j] : j;
+            }
+        }
+        size = m;
+        padded = (m + block_multiple - 1) / block_multiple * block_multiple;
+        for (std::uint32_t j = m; j < padded; ++j) {
+            for (int a = 0; a < D; ++a) c[a][j] = T(INFINITY);
+            id[j] = no_id;
+        }
+    }
+};
+
+/// Vector operations of this level on T.
+template <class T>
+struct lanes_of {
+    static constexpr int n = FRNN_SWEEP_BYTES / int(sizeof(T));
+    typedef T vec __attribute__((vector_size(FRNN_SWEEP_BYTES)));
+
+    static vec load(const T* p) {
+        vec v;
+        std::memcpy(&v, p, sizeof v);
+        return v;
+    }
+    static vec splat(T x) { return vec{} + x; }
+    /// Bit l set when a[l] <= b[l].
+    static std::uint32_t le_bits(vec a, vec b) {
+#if FRNN_SWEEP_BYTES == 64
+        if constexpr (sizeof(T) == 4)
+            return _mm512_cmp_ps_mask(reinterpret_cast<__m512>(a), reinterpret_cast<__m512>(b), _CMP_LE_OQ);
+        else
+            return _mm512_cmp_pd_mask(reinterpret_cast<__m512d>(a), reinterpret_cast<__m512d>(b), _CMP_LE_OQ);
+#elif FRNN_SWEEP_BYTES == 32
+        if constexpr (sizeof(T) == 4)
+            return std::uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(reinterpret_cast<__m256>(a), reinterpret_cast<__m256>(b), _CMP_LE_OQ)));
+        else
+            return std::uint32_t(_mm256_movemask_pd(_mm256_cmp_pd(reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b), _CMP_LE_OQ)));
+#elif defined(__SSE2__)
+        if constexpr (sizeof(T) == 4)
+            return std::uint32_t(_mm_movemask_ps(_mm_cmple_ps(reinterpret_cast<__m128>(a), reinterpret_cast<__m128>(b))));
+        else
+            return std::uint32_t(_mm_movemask_pd(_mm_cmple_pd(reinterpret_cast<__m128d>(a), reinterpret_cast<__m128d>(b))));
+#else
+        std::uint32_t bits = 0;
+        for (int l = 0; l < n; ++l) bits |= std::uint32_t(a[l] <= b[l]) << l;
+        return bits;
+#endif
+    }
+};
+
+/// One point against a candidate block.
+template <class T, int D>
+struct point_kernel {
+    using L = lanes_of<T>;
+    using vec = typename L::vec;
+    vec x[D];
+    vec limit;
+
+    point_kernel(const T* point, T r2) : limit(L::splat(r2)) {
+        for (int a = 0; a < D; ++a) x[a] = L::splat(point[a]);
+    }
+
+    vec d2(const T* const* c, std::uint32_t k) const {
+        const vec dx = L::load(c[0] + k) - x[0];
+        const vec dy = L::load(c[1] + k) - x[1];
+        vec d = dx * dx;
+        d += dy * dy;
+        if constexpr (D == 3) {
+            const vec dz = L::load(c[D - 1] + k) - x[D - 1];
+            d += dz * dz;
+        }
+        return d;
+    }
+
+    /// Candidates within r, the point itself included.
+    std::uint32_t count_all(const candidate_block<T, D>& b) const {
+        const T* c[D];
+        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const std::uint32_t padded = b.padded;
+        std::uint32_t hits = 0;
+        for (std::uint32_t k = 0; k < padded; k += L::n) hits += std::uint32_t(__builtin_popcount(L::le_bits(d2(c, k), limit)));
+        return hits;
+    }
+
+    /// Writes the ids (and squared distances) of candidates within r whose id is >= lo and
+    /// != skip, in block order, to out (and out_d2); returns how many. Writes nothing else.
+    template <bool WithD2, bool CountOnly = false>
+    std::uint32_t emit(const candidate_block<T, D>& b, std::uint32_t lo, std::uint32_t skip,
+                       std::uint32_t* __restrict out, T* __restrict out_d2) const {
+        const T* c[D];
+        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const std::uint32_t* __restrict block_ids = b.id.data();
+        const std::uint32_t padded = b.padded;
+        std::uint32_t n = 0;
+#if FRNN_SWEEP_BYTES == 64
+        // Hits are compressed to the front of a register and stored under a mask of their count.
+        for (std::uint32_t k = 0; k < padded; k += L::n) {
+            const vec d = d2(c, k);
+            std::uint32_t m = L::le_bits(d, limit);
+            if constexpr (sizeof(T) == 4) {
+                const __m512i ids = _mm512_loadu_si512(block_ids + k);
+                m &= _mm512_cmpge_epu32_mask(ids, _mm512_set1_epi32(int(lo))) &
+                     _mm512_cmpneq_epu32_mask(ids, _mm512_set1_epi32(int(skip)));
+                if constexpr (!CountOnly) {
+                    const __mmask16 first = __mmask16((1u << __builtin_popcount(m)) - 1);
+                    _mm512_mask_storeu_epi32(out + n, first, _mm512_maskz_compress_epi32(__mmask16(m), ids));
+                    if constexpr (WithD2)
+                        _mm512_mask_storeu_ps(out_d2 + n, first,
+                                              _mm512_maskz_compress_ps(__mmask16(m), reinterpret_cast<__m512>(d)));
+                }
+            } else {
+                const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block_ids + k));
+                m &= _mm256_cmpge_epu32_mask(ids, _mm256_set1_epi32(int(lo))) &
+                     _mm256_cmpneq_epu32_mask(ids, _mm256_set1_epi32(int(skip)));
+                if constexpr (!CountOnly) {
+                    const __mmask8 first = __mmask8((1u << __builtin_popcount(m)) - 1);
+                    _mm256_mask_storeu_epi32(out + n, first, _mm256_maskz_compress_epi32(__mmask8(m), ids));
+                    if constexpr (WithD2)
+                        _mm512_mask_storeu_pd(out_d2 + n, first,
+                                              _mm512_maskz_compress_pd(__mmask8(m), reinterpret_cast<__m512d>(d)));
+                }
+            }
+            n += std::uint32_t(__builtin_popcount(m));
+        }
+#else
+        for (std::uint32_t k = 0; k < padded; k += L::n) {
+            const vec d = d2(c, k);
+            for (std::uint32_t m = L::le_bits(d, limit); m; m &= m - 1) {
+                const int l = __builtin_ctz(m);
+                const std::uint32_t j = block_ids[k + std::uint32_t(l)];
+                if ((j >= lo) & (j != skip)) {
+                    if constexpr (!CountOnly) {
+                        out[n] = j;
+                        if constexpr (WithD2) out_d2[n] = d[l];
+                    }
+                    ++n;
+                }
+            }
+        }
+#endif
+        return n;
+    }
+};
+
+/// Calls f(begin, end) for each run of sorted points in [b, e) that share one cell (and so one
+/// candidate block).
+template <class T, int D, class F>
+void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, F&& f) {
+    for (std::size_t s = b; s < e;) {
+        const std::size_t end = std::min<std::size_t>(g.cell_group_end(std::uint32_t(s)), e);
+        f(std::uint32_t(s), std::uint32_t(end));
+        s = end;
+    }
+}
+
+/// The id filter of a row: candidates with id >= lo and id != skip.
+template <class T>
+void row_filter(const sweep_job<T>& job, std::uint32_t me, std::uint32_t& lo, std::uint32_t& skip) {
+    lo = job.half ? (job.self ? me : me + 1) : 0;
+    skip = job.half || job.self ? no_id : me;
+}
+
+template <class T, int D>
+struct sweeper {
+    const grid<T, D>& g;
+    const sweep_job<T>& job;
+    candidate_block<T, D> block;
+    candidate_run runs[max_runs];
+    T r2;
+
+    sweeper(const grid<T, D>& gr, const sweep_job<T>& j) : g(gr), job(j), r2(gr.radius() * gr.radius()) {}
+
+    std::array<T, D> point(std::uint32_t s) const {
+        std::array<T, D> x;
+        for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+        return x;
+    }
+    std::uint32_t id(std::uint32_t s) const { return job.ids ? job.ids[s] : s; }
+
+    void gather(std::uint32_t s) { block.gather(g, runs, g.candidate_runs(point(s), runs), job.ids); }
+
+    void count(std::size_t b, std::size_t e) {
+        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge) {
+            gather(gb);
+            for (std::uint32_t s = gb; s < ge; ++s) {
+                const auto x = point(s);
+                const point_kernel<T, D> kern(x.data(), r2);
+                std::uint32_t c;
+                if (job.half) {
+                    std::uint32_t lo, skip;
+                    row_filter(job, id(s), lo, skip);
+                    c = kern.template emit<false, true>(block, lo, skip, nullptr, nullptr);
+                } else {
+                    // The point itself is always a candidate at distance 0.
+                    c = kern.count_all(block) - (job.self ? 0 : 1);
+                }
+                if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
+                job.counts[s] = c;
+            }
+        });
+    }
+
+    void fill(std::size_t b, std::size_t e) {
+        // Rows are written in place; only k-nearest rows, longer than their place, take a buffer.
+        const bool need_d2 = job.distances || job.order == row_order::distance || job.k_nearest > 0;
+        std::vector<std::uint32_t> row_ids;
+        std::vector<T> row_d2;
+        std::vector<std::pair<T, std::uint32_t>> pairs;
+        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge) {
+            gather(gb);
+            if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
+            for (std::uint32_t s = gb; s < ge; ++s) {
+                const auto x = point(s);
+                const point_kernel<T, D> kern(x.data(), r2);
+                std::uint32_t lo, skip;
+                row_filter(job, id(s), lo, skip);
+                const std::uint64_t dst = job.offsets[id(s)];
+                std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
+                T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
+                if (need_d2 && !d2) {  // ordering by distance without returning distances
+                    grow(row_d2, block.padded);
+                    d2 = row_d2.data();
+                }
+                std::uint32_t n = d2 ? kern.template emit<true>(block, lo, skip, ids, d2)
+                                     : kern.template emit<false>(block, lo, skip, ids, nullptr);
+                if (job.k_nearest > 0 || job.order == row_order::distance ||
+                    (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
+                    if (d2) n = sort_row(n, ids, d2, pairs);
+                    else std::sort(ids, ids + n);
+                }
+                if (job.k_nearest > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
+                if (job.distances) {
+                    T* out = job.distances + dst;
+                    for (std::uint32_t k = 0; k < n; ++k) out[k] = std::sqrt(d2[k]);
+                }
+            }
+        });
+    }
+
+    /// Orders a row by distance (ties by id) or by id, keeping the k nearest when asked.
+    std::uint32_t sort_row(std::uint32_t n, std::uint32_t* ids, T* d2, std::vector<std::pair<T, std::uint32_t>>& pairs) const {
+        pairs.resize(n);
+        for (std::uint32_t k = 0; k < n; ++k) pairs[k] = {d2[k], ids[k]};
+        if (job.k_nearest > 0 && n > job.k_nearest) {
+            std::nth_element(pairs.begin(), pairs.begin() + std::ptrdiff_t(job.k_nearest - 1), pairs.end());
+            n = std::uint32_t(job.k_nearest);
+            pairs.resize(n);
+        }
+        if (job.k_nearest > 0 || job.order == row_order::distance) {
+            std::sort(pairs.begin(), pairs.end());
+        } else {
+            std::sort(pairs.begin(), pairs.end(), [](const auto& l, const auto& r) { return l.second < r.second; });
+        }
+        for (std::uint32_t k = 0; k < n; ++k) d2[k] = pairs[k].first, ids[k] = pairs[k].second;
+        return n;
+    }
+};
+
+template <class T, int D>
+void count(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    sweeper<T, D>(g, job).count(b, e);
+}
+
+template <class T, int D>
+void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    sweeper<T, D>(g, job).fill(b, e);
+}
+
+template <class T, int D>
+const sweep_kernels<T, D>& table() {
+    static const sweep_kernels<T, D> t{&count<T, D>, &fill<T, D>};
+    return t;
+}
+
+template const sweep_kernels<float, 2>& table<float, 2>();
+template const sweep_kernels<float, 3>& table<float, 3>();
+template const sweep_kernels<double, 2>& table<double, 2>();
+template const sweep_kernels<double, 3>& table<double, 3>();
+
+}  // namespace frnn::detail::FRNN_SWEEP_NS
