@@ -6,13 +6,15 @@
 #include <span>
 #include <vector>
 
+#include "frnn/buffer.hpp"
+
 namespace frnn {
 
 template <class T>
 struct csr {
-    std::vector<std::uint64_t> offsets{0};  ///< rows() + 1 entries, offsets[0] == 0
-    std::vector<std::uint32_t> indices;     ///< neighbor indices, row after row
-    std::vector<T> distances;               ///< same length as indices, or empty
+    buffer<std::uint64_t> offsets{0};  ///< rows() + 1 entries, offsets[0] == 0
+    buffer<std::uint32_t> indices;     ///< neighbor indices, row after row
+    buffer<T> distances;               ///< same length as indices, or empty
 
     std::size_t rows() const { return offsets.size() - 1; }
     std::size_t size() const { return indices.size(); }

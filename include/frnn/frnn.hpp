@@ -1,6 +1,7 @@
 // frnn: fast fixed-radius neighbor search. Include this for the whole public API.
 #pragma once
 #include "frnn/brute_force.hpp"
+#include "frnn/buffer.hpp"
 #include "frnn/csr.hpp"
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"

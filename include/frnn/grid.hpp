@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "frnn/buffer.hpp"
 #include "frnn/csr.hpp"
 #include "frnn/error.hpp"
 #include "frnn/options.hpp"
@@ -192,14 +193,14 @@ private:
     std::size_t nonempty_ = 0;
 
     // Structure.
-    std::array<std::vector<T>, D> pos_;     // points in cell order, one array per axis
-    std::vector<std::uint32_t> perm_;       // sorted -> original
-    std::vector<std::uint32_t> inverse_;    // original -> sorted
+    std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis
+    buffer<std::uint32_t> perm_;            // sorted -> original
+    buffer<std::uint32_t> inverse_;         // original -> sorted
     std::vector<std::uint32_t> offsets_;    // slots_ + 1 run starts
     std::vector<std::uint64_t> mixed_;      // hashed: bit per slot holding points of several cells
 
     // Build scratch, kept for rebuilds.
-    std::vector<std::uint32_t> point_slot_;
+    buffer<std::uint32_t> point_slot_;
     std::vector<std::uint32_t> thread_counts_;
 };
 

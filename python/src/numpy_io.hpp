@@ -78,14 +78,14 @@ inline py::array check_points_shape(py::array a, const char* what, int dim, bool
 
 /// Moves `v` into a 1-D or 2-D numpy array of element type Out (same size and layout as V,
 /// e.g. uint64 -> int64) owned by a capsule: no copy of the data.
-template <class Out = void, class V>
-py::array to_numpy(std::vector<V>&& v, std::vector<py::ssize_t> shape = {}) {
+template <class Out = void, class V, class A>
+py::array to_numpy(std::vector<V, A>&& v, std::vector<py::ssize_t> shape = {}) {
     using E = std::conditional_t<std::is_void_v<Out>, V, Out>;
     static_assert(sizeof(E) == sizeof(V));
     if (shape.empty()) shape = {py::ssize_t(v.size())};
-    auto owned = std::make_unique<std::vector<V>>(std::move(v));
+    auto owned = std::make_unique<std::vector<V, A>>(std::move(v));
     auto* data = reinterpret_cast<E*>(owned->data());
-    py::capsule owner(owned.get(), [](void* p) { delete static_cast<std::vector<V>*>(p); });
+    py::capsule owner(owned.get(), [](void* p) { delete static_cast<std::vector<V, A>*>(p); });
     owned.release();  // the capsule deletes it from now on
     return py::array_t<E>(shape, data, owner);
 }

@@ -263,7 +263,10 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     // which keeps the sort stable for any number of chunks.
     const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
     // Padding: the SIMD kernels may load a few values past the last point (and mask them off).
-    for (auto& p : pos_) p.assign(n + detail::coordinate_padding, T(0));
+    for (auto& p : pos_) {
+        p.resize(n + detail::coordinate_padding);
+        std::fill(p.begin() + std::ptrdiff_t(n), p.end(), T(0));
+    }
     perm_.resize(n);
     inverse_.resize(n);
     point_slot_.resize(n);

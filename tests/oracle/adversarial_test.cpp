@@ -175,7 +175,7 @@ TEST(OracleAdversarial, EmptyInput) {
     every_grid<float, 2>({}, 0.5f, {0, 0});
     grid<double, 2> g(std::vector<double>{}, 1.0);
     EXPECT_EQ(g.size(), 0u);
-    EXPECT_EQ(g.neighbor_lists().offsets, std::vector<std::uint64_t>{0});
+    EXPECT_EQ(g.neighbor_lists().offsets, buffer<std::uint64_t>{0});
     EXPECT_TRUE(g.count_neighbors().empty());
 }
 

@@ -11,8 +11,8 @@
 namespace frnn::test {
 namespace {
 
-template <class U>
-bool same_bits(const std::vector<U>& a, const std::vector<U>& b) {
+template <class U, class A, class B>
+bool same_bits(const std::vector<U, A>& a, const std::vector<U, B>& b) {
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(U)) == 0);
 }
 
