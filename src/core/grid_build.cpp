@@ -125,18 +125,26 @@ void grid<T, D>::configure(std::span<const T> coords) {
         std::vector<std::size_t> first_bad(parts, n);
         std::vector<std::array<double, 6>> box(parts);
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-            std::array<double, 6> bb;
-            for (int a = 0; a < 3; ++a) bb[a] = INFINITY, bb[3 + a] = -INFINITY;
+            // Branch-free pass in T: v - v is 0 for finite v and NaN otherwise, so one flag
+            // tells whether the chunk needs the slow search for its first bad point.
+            T mn[D], mx[D], nonfinite[D];
+            for (int a = 0; a < D; ++a) mn[a] = T(INFINITY), mx[a] = -T(INFINITY), nonfinite[a] = 0;
             for (std::size_t i = b; i < e; ++i) {
                 for (int a = 0; a < D; ++a) {
-                    const double v = double(coords[i * D + a]);
-                    if (!std::isfinite(v)) {
-                        first_bad[c] = i;
-                        box[c] = bb;
-                        return;
-                    }
-                    bb[a] = std::min(bb[a], v);
-                    bb[3 + a] = std::max(bb[3 + a], v);
+                    const T v = coords[i * D + a];
+                    mn[a] = v < mn[a] ? v : mn[a];
+                    mx[a] = v > mx[a] ? v : mx[a];
+                    nonfinite[a] += v - v;
+                }
+            }
+            std::array<double, 6> bb;
+            for (int a = 0; a < 3; ++a) bb[a] = INFINITY, bb[3 + a] = -INFINITY;
+            for (int a = 0; a < D; ++a) {
+                bb[a] = double(mn[a]), bb[3 + a] = double(mx[a]);
+                if (nonfinite[a] != 0) {
+                    for (std::size_t i = b; i < e && first_bad[c] == n; ++i)
+                        for (int k = 0; k < D; ++k)
+                            if (!std::isfinite(coords[i * D + k])) first_bad[c] = i;
                 }
             }
             box[c] = bb;
@@ -276,6 +284,21 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     // 1. Insert: each point's cell, and per-chunk counts of every cell.
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         std::uint32_t* counts = thread_counts_.data() + c * slots_;
+        if (kind_ == grid_kind::uniform && !periodic_) {
+            // The common case inline: cell_of's arithmetic, then the row-major slot.
+            double lo[3], inv[3], top[3];
+            for (int a = 0; a < D; ++a) lo[a] = origin_[a], inv[a] = inv_cell_[a], top[a] = double(dims_[a] - 1);
+            const std::uint64_t stride1 = std::uint64_t(dims_[0]), stride2 = std::uint64_t(dims_[0] * dims_[1]);
+            for (std::size_t i = b; i < e; ++i) {
+                std::uint64_t cell[3] = {0, 0, 0};
+                for (int a = 0; a < D; ++a)
+                    cell[a] = std::uint64_t(std::clamp((double(coords[i * D + a]) - lo[a]) * inv[a], 0.0, top[a]));
+                const std::uint32_t s = std::uint32_t(cell[0] + stride1 * cell[1] + stride2 * cell[2]);
+                point_slot_[i] = s;
+                ++counts[s];
+            }
+            return;
+        }
         point p;
         for (std::size_t i = b; i < e; ++i) {
             for (int a = 0; a < D; ++a) p[a] = coords[i * D + a];
@@ -299,15 +322,29 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     });
     // 3. Exclusive prefix sum: where each cell starts.
     detail::exclusive_scan(offsets_.data(), slots_ + 1, threads);
-    // 4. Stable scatter into cell order.
+    // 4. Stable scatter into cell order. Each point goes as one record (coordinates and index)
+    // to a scratch array, so that inputs in random order cost one scattered write per point
+    // instead of D + 1; a streaming pass then splits the records into the arrays per axis.
+    struct record {
+        T x[D];
+        std::uint32_t index;
+    };
+    buffer<record> records(n);
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         std::uint32_t* next = thread_counts_.data() + c * slots_;
         for (std::size_t i = b; i < e; ++i) {
             const std::uint32_t s = point_slot_[i];
             const std::uint32_t dst = offsets_[s] + next[s]++;
-            for (int a = 0; a < D; ++a) pos_[a][dst] = coords[i * D + a];
-            perm_[dst] = std::uint32_t(i);
+            record& r = records[dst];
+            for (int a = 0; a < D; ++a) r.x[a] = coords[i * D + a];
+            r.index = std::uint32_t(i);
             inverse_[i] = dst;
+        }
+    });
+    detail::for_each_chunk(n, detail::chunk_count(n, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t s = b; s < e; ++s) {
+            for (int a = 0; a < D; ++a) pos_[a][s] = records[s].x[a];
+            perm_[s] = records[s].index;
         }
     });
     mark_mixed_slots();
