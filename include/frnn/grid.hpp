@@ -134,6 +134,14 @@ public:
     /// The runs of sorted points whose cells lie within reach of x (internal, but public so
     /// that other backends and bindings can share one traversal).
     std::size_t candidate_runs(const point& x, detail::candidate_run* out) const;
+    /// Uniform grid with open boundaries only: the forward half of that stencil, the cells
+    /// after x's own cell in cell order (its own cell included), so that visiting these from
+    /// every cell meets each pair of cells once.
+    std::size_t forward_runs(const point& x, detail::candidate_run* out) const;
+    /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
+    /// x + nx * (y + ny * z). Slot c holds the sorted points [cell_starts()[c], cell_starts()[c + 1]).
+    std::array<std::int64_t, 3> cells_per_axis() const { return dims_; }
+    std::span<const std::uint32_t> cell_starts() const { return offsets_; }
     /// Distance squared between x and sorted point j, with the minimum image when periodic.
     T distance_squared_sorted(const point& x, std::uint32_t j) const {
         T d2 = 0;

@@ -457,6 +457,31 @@ std::size_t grid<T, D>::candidate_runs(const point& x, detail::candidate_run* ou
     return n;
 }
 
+template <class T, int D>
+std::size_t grid<T, D>::forward_runs(const point& x, detail::candidate_run* out) const {
+    if (size() == 0) return 0;
+    const auto c = cell_of(x);
+    const int k = reach_;
+    std::size_t n = 0;
+    const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
+    const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + k);
+    auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {
+        const std::int64_t row = (z * dims_[1] + y) * dims_[0];
+        const std::uint32_t b = offsets_[row + from], e = offsets_[row + x1 + 1];
+        if (b < e) out[n++] = {b, e, false, {}};
+    };
+    add_row(c[1], c[2], c[0]);  // own cell onwards
+    for (int dy = 1; dy <= k && c[1] + dy < dims_[1]; ++dy) add_row(c[1] + dy, c[2], x0);
+    if constexpr (D == 3) {
+        for (int dz = 1; dz <= k && c[2] + dz < dims_[2]; ++dz)
+            for (int dy = -k; dy <= k; ++dy) {
+                const std::int64_t y = c[1] + dy;
+                if (y >= 0 && y < dims_[1]) add_row(y, c[2] + dz, x0);
+            }
+    }
+    return n;
+}
+
 template class grid<float, 2>;
 template class grid<float, 3>;
 template class grid<double, 2>;

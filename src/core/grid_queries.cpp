@@ -267,12 +267,7 @@ struct query_engine {
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
         std::vector<std::uint32_t> out(rows);
         if (sweeps(from_queries)) {
-            sweep_job<T> job;
-            job.self = self;
-            job.counts = out.data();
-            const auto& kernels = sweep_for_cpu<T, D>();
-            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
-                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+            full_counts(out.data(), self);
             return out;  // at sorted positions
         }
         const distance_kernel<T, D> kern(g);
@@ -347,6 +342,40 @@ struct query_engine {
         return assemble(chunks, rows, parts, threads, map, o.distances, order);
     }
 
+    /// Neighbor counts of the grid's own points by sorted index (the point itself included
+    /// when `self`). The uniform grid visits each pair of cells once, in two rounds of
+    /// alternate slabs of cell layers so that concurrent sweeps never add to the same count.
+    void full_counts(std::uint32_t* counts, bool self) const {
+        const std::size_t rows = g.size();
+        const auto& kernels = sweep_for_cpu<T, D>();
+        sweep_job<T> job;
+        job.self = self;
+        job.counts = counts;
+        if (g.kind() != grid_kind::uniform) {
+            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
+                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+            return;
+        }
+        const std::uint32_t start = self ? 1 : 0;
+        std::fill(counts, counts + rows, start);
+        const auto dims = g.cells_per_axis();
+        const std::size_t layers = std::size_t(dims[D - 1]);
+        const std::size_t per_layer = D == 3 ? std::size_t(dims[0] * dims[1]) : std::size_t(dims[0]);
+        // Slabs at least `reach` layers thick, so that a sweep only reaches into the next slab.
+        const std::size_t want = std::max<std::size_t>(1, std::size_t(threads) * 32);
+        const std::size_t thick = std::max<std::size_t>(std::size_t(g.reach()), (layers + want - 1) / want);
+        const std::size_t slabs = (layers + thick - 1) / thick;
+        const auto starts = g.cell_starts();
+        for (std::size_t round = 0; round < 2; ++round) {
+            const std::size_t n = (slabs + 1 - round) / 2;
+            for_each_chunk(n, n, threads, [&](std::size_t c, std::size_t, std::size_t) {
+                const std::size_t slab = 2 * c + round;
+                const std::size_t z0 = slab * thick, z1 = std::min(layers, z0 + thick);
+                kernels.count_pairs(g, job, starts[z0 * per_layer], starts[z1 * per_layer]);
+            });
+        }
+    }
+
     /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.
     csr<T> swept_lists(const list_options& o, std::size_t k_nearest) const {
         const std::size_t rows = g.size();
@@ -362,7 +391,14 @@ struct query_engine {
         job.counts = sizes.data();
         const auto& kernels = sweep_for_cpu<T, D>();
         const std::size_t parts = chunk_count(rows, threads, 2048);
-        for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+        if (o.half) {
+            for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+        } else {
+            full_counts(sizes.data(), o.self);
+            if (k_nearest > 0) {
+                for (auto& c : sizes) c = std::uint32_t(std::min<std::size_t>(c, k_nearest));
+            }
+        }
 
         csr<T> out;
         out.offsets.assign(rows + 1, 0);

@@ -36,6 +36,11 @@ template <class T, int D>
 struct sweep_kernels {
     /// Row sizes of the sorted points [b, e) into job.counts.
     void (*count)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// Uniform grid, open boundaries: adds to job.counts (zero before the first sweep) the
+    /// neighbors of all points, meeting each pair once from the cells of [b, e). Also writes
+    /// counts of points up to `reach` cell layers after e, so sweeps of adjacent slabs of
+    /// layers must not run at the same time.
+    void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
 };

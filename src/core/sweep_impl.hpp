@@ -160,6 +160,41 @@ struct point_kernel {
         return hits;
     }
 
+    /// For a sweep that meets each pair once: candidates within r with id > me. Adds one to
+    /// acc[k] for each such candidate k and returns their number.
+    std::uint32_t count_forward(const candidate_block<T, D>& b, std::uint32_t me, std::uint32_t* __restrict acc) const {
+        const T* c[D];
+        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const std::uint32_t* __restrict block_ids = b.id.data();
+        const std::uint32_t padded = b.padded;
+        std::uint32_t n = 0;
+#if FRNN_SWEEP_BYTES == 64
+        for (std::uint32_t k = 0; k < padded; k += L::n) {
+            const std::uint32_t m0 = L::le_bits(d2(c, k), limit);
+            if constexpr (sizeof(T) == 4) {
+                const __mmask16 m = __mmask16(m0) & _mm512_cmpgt_epu32_mask(_mm512_loadu_si512(block_ids + k), _mm512_set1_epi32(int(me)));
+                const __m512i a = _mm512_loadu_si512(acc + k);
+                _mm512_storeu_si512(acc + k, _mm512_mask_sub_epi32(a, m, a, _mm512_set1_epi32(-1)));
+                n += std::uint32_t(__builtin_popcount(m));
+            } else {
+                const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block_ids + k));
+                const __mmask8 m = __mmask8(m0) & _mm256_cmpgt_epu32_mask(ids, _mm256_set1_epi32(int(me)));
+                const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(acc + k));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(acc + k), _mm256_mask_sub_epi32(a, m, a, _mm256_set1_epi32(-1)));
+                n += std::uint32_t(__builtin_popcount(m));
+            }
+        }
+#else
+        for (std::uint32_t k = 0; k < padded; k += L::n) {
+            for (std::uint32_t m = L::le_bits(d2(c, k), limit); m; m &= m - 1) {
+                const std::uint32_t j = k + std::uint32_t(__builtin_ctz(m));
+                if (block_ids[j] > me) ++acc[j], ++n;
+            }
+        }
+#endif
+        return n;
+    }
+
     /// Writes the ids (and squared distances) of candidates within r whose id is >= lo and
     /// != skip, in block order, to out (and out_d2); returns how many. Writes nothing else.
     template <bool WithD2, bool CountOnly = false>
@@ -278,6 +313,31 @@ struct sweeper {
         });
     }
 
+    /// Counts every pair once (forward half-stencil) and adds it to both points' counts.
+    /// Writes the counts of points in cells up to `reach` layers after [b, e): callers run
+    /// sweeps of neighboring slabs one after the other.
+    void count_pairs(std::size_t b, std::size_t e) {
+        std::vector<std::uint32_t> acc;
+        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge) {
+            const std::size_t nruns = g.forward_runs(point(gb), runs);
+            block.gather(g, runs, nruns, nullptr);
+            grow(acc, block.padded);
+            std::fill(acc.begin(), acc.begin() + block.padded, 0u);
+            for (std::uint32_t s = gb; s < ge; ++s) {
+                const auto x = point(s);
+                job.counts[s] += point_kernel<T, D>(x.data(), r2).count_forward(block, s, acc.data());
+            }
+            // The block holds the runs one after the other: add back run by run.
+            const std::uint32_t* src = acc.data();
+            for (std::size_t k = 0; k < nruns; ++k) {
+                std::uint32_t* __restrict dst = job.counts + runs[k].begin;
+                const std::uint32_t len = runs[k].end - runs[k].begin;
+                for (std::uint32_t j = 0; j < len; ++j) dst[j] += src[j];
+                src += len;
+            }
+        });
+    }
+
     void fill(std::size_t b, std::size_t e) {
         // Rows are written in place; only k-nearest rows, longer than their place, take a buffer.
         const bool need_d2 = job.distances || job.order == row_order::distance || job.k_nearest > 0;
@@ -340,13 +400,18 @@ void count(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::siz
 }
 
 template <class T, int D>
+void count_pairs(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    sweeper<T, D>(g, job).count_pairs(b, e);
+}
+
+template <class T, int D>
 void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
     sweeper<T, D>(g, job).fill(b, e);
 }
 
 template <class T, int D>
 const sweep_kernels<T, D>& table() {
-    static const sweep_kernels<T, D> t{&count<T, D>, &fill<T, D>};
+    static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>};
     return t;
 }
 
