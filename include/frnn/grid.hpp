@@ -154,6 +154,16 @@ public:
     }
     /// Integer cell coordinates of x (clamped to the uniform grid, wrapped when periodic).
     std::array<std::int64_t, 3> cell_of(const point& x) const;
+    /// Hashed grid: whether sorted point j lies in `cell` (equals cell_of(point j) == cell, but
+    /// inline: it checks every point of hash slots shared by several cells).
+    bool hashed_point_in_cell(std::uint32_t j, const std::array<std::int64_t, 3>& cell) const {
+        for (int a = 0; a < D; ++a) {
+            const double v = double(pos_[a][j]) * inv_cell_[a];
+            const auto i = std::int64_t(v);  // floor(v): |v| < 2^52 is checked at build
+            if (i - std::int64_t(double(i) > v) != cell[a]) return false;
+        }
+        return true;
+    }
 
 private:
     point sorted_point(std::uint32_t s) const {
@@ -184,6 +194,7 @@ private:
     void configure(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
     void mark_mixed_slots();
+    void group_cells(std::uint32_t begin, std::uint32_t end);
     std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
 
     // Configuration.

@@ -23,6 +23,12 @@ constexpr double max_cell_coordinate = 0x1p52;
 // A uniform grid may have at most this many cells when asked for explicitly.
 constexpr double max_uniform_cells = 0x1p31;
 
+// std::floor for |v| < 2^63, without a library call on CPUs lacking SSE4.1 rounding.
+inline std::int64_t floor_to_int(double v) {
+    const auto i = std::int64_t(v);
+    return i - std::int64_t(double(i) > v);
+}
+
 std::string fmt_double(double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -78,7 +84,7 @@ std::array<std::int64_t, 3> grid<T, D>::cell_of(const point& x) const {
             const double u = std::clamp((v - origin_[a]) * inv_cell_[a], 0.0, double(dims_[a] - 1));
             c[a] = std::int64_t(u);
         } else {
-            c[a] = std::int64_t(std::floor(v * inv_cell_[a]));
+            c[a] = floor_to_int(v * inv_cell_[a]);
         }
     }
     return c;
@@ -246,7 +252,13 @@ std::uint32_t grid<T, D>::slot_of_cell(const std::array<std::int64_t, 3>& c) con
 template <class T, int D>
 std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
     const std::uint32_t slot = slot_of_cell(cell_of(sorted_point(s)));
-    if (kind_ == grid_kind::hashed && (mixed_[slot / 64] >> (slot % 64) & 1)) return s + 1;
+    if (kind_ == grid_kind::hashed && (mixed_[slot / 64] >> (slot % 64) & 1)) {
+        // A shared slot holds its cells one after the other (see group_cells).
+        const auto cell = cell_of(sorted_point(s));
+        std::uint32_t e = s + 1;
+        while (e < offsets_[slot + 1] && hashed_point_in_cell(e, cell)) ++e;
+        return e;
+    }
     return offsets_[slot + 1];
 }
 
@@ -350,6 +362,25 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     mark_mixed_slots();
 }
 
+// Orders the points of a hash slot shared by several cells by cell (stable), so that each
+// cell's points are contiguous and share one candidate block in the sweeps.
+template <class T, int D>
+void grid<T, D>::group_cells(std::uint32_t b, std::uint32_t e) {
+    std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> keyed;
+    for (std::uint32_t j = b; j < e; ++j) keyed.push_back({cell_of(sorted_point(j)), perm_[j]});
+    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
+    std::vector<point> points;
+    for (std::uint32_t j = b; j < e; ++j) points.push_back(sorted_point(j));
+    for (std::uint32_t j = b; j < e; ++j) {
+        const std::uint32_t from = inverse_[keyed[j - b].second];  // its old sorted position
+        for (int a = 0; a < D; ++a) pos_[a][j] = points[from - b][a];
+    }
+    for (std::uint32_t j = b; j < e; ++j) {
+        perm_[j] = keyed[j - b].second;
+        inverse_[perm_[j]] = j;
+    }
+}
+
 // Counts non-empty cells; in the hashed grid, also flags slots shared by several cells so
 // that queries check cell coordinates there.
 template <class T, int D>
@@ -369,8 +400,9 @@ void grid<T, D>::mark_mixed_slots() {
             if (!hashed) continue;
             const auto first = cell_of(sorted_point(b));
             for (std::uint32_t j = b + 1; j < e; ++j) {
-                if (cell_of(sorted_point(j)) != first) {
+                if (!hashed_point_in_cell(j, first)) {
                     mixed_[s / 64] |= std::uint64_t(1) << (s % 64);
+                    group_cells(b, e);
                     break;
                 }
             }
@@ -438,6 +470,7 @@ std::size_t grid<T, D>::candidate_runs(const point& x, detail::candidate_run* ou
     }
     // Hashed: consecutive x cells are consecutive slots; verify each slot's owner cell.
     const std::uint64_t mask = slots_ - 1;
+
     for (int dz = -zr; dz <= zr; ++dz)
         for (int dy = -k; dy <= k; ++dy) {
             const std::array<std::int64_t, 3> rowcell{0, c[1] + dy, c[2] + dz};
@@ -449,7 +482,7 @@ std::size_t grid<T, D>::candidate_runs(const point& x, detail::candidate_run* ou
                 if (b == e) continue;
                 if (mixed_[s / 64] >> (s % 64) & 1) {
                     out[n++] = {b, e, true, cell};
-                } else if (cell_of(sorted_point(b)) == cell) {
+                } else if (hashed_point_in_cell(b, cell)) {
                     add(b, e);
                 }
             }

@@ -76,11 +76,8 @@ struct distance_kernel {
             const std::uint32_t len = std::min(block_size, run.end - b);
             d2_block<Periodic>(x, b, len, buf);
             if (run.filter) {
-                for (std::uint32_t m = 0; m < len; ++m) {
-                    std::array<T, D> q;
-                    for (int a = 0; a < D; ++a) q[a] = p[a][b + m];
-                    if (g.cell_of(q) != run.cell) buf[m] = T(INFINITY);
-                }
+                for (std::uint32_t m = 0; m < len; ++m)
+                    if (!g.hashed_point_in_cell(b + m, run.cell)) buf[m] = T(INFINITY);
             }
             for (std::uint64_t m = detail::le_mask(buf, len, r2); m; m &= m - 1) {
                 const std::uint32_t k = std::uint32_t(std::countr_zero(m));

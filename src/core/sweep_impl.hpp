@@ -73,10 +73,8 @@ struct candidate_block {
             }
             // A hash slot shared by several cells: keep the points of the run's cell only.
             for (std::uint32_t j = run.begin; j < run.end; ++j) {
-                std::array<T, D> q;
-                for (int a = 0; a < D; ++a) q[a] = g.sorted_coord(j, a);
-                if (g.cell_of(q) != run.cell) continue;
-                for (int a = 0; a < D; ++a) dst[a][m] = q[a];
+                if (!g.hashed_point_in_cell(j, run.cell)) continue;
+                for (int a = 0; a < D; ++a) dst[a][m] = g.sorted_coord(j, a);
                 dst_id[m++] = ids ? ids[j] : j;
             }
         }
