@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "frnn/simd.hpp"
+
 namespace frnn::bench {
 
 double median(std::vector<double> values) {
@@ -67,6 +69,7 @@ std::string build_description() {
 #else
     s += ", assertions on (not a release build: figures are not representative)";
 #endif
+    s += ", frnn kernels " + std::string(simd_level());
     return s;
 }
 

@@ -399,8 +399,9 @@ struct query_engine {
 
         csr<T> out;
         out.offsets.assign(rows + 1, 0);
+        const auto inverse = g.original_to_sorted();
         for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
-            for (std::size_t s = b; s < e; ++s) out.offsets[sorted_space ? s : perm[s]] = sizes[s];
+            for (std::size_t i = b; i < e; ++i) out.offsets[i] = sizes[sorted_space ? i : inverse[i]];
         });
         const std::uint64_t total = exclusive_scan(out.offsets.data(), rows + 1, threads);
         out.indices.resize(total);
@@ -435,8 +436,13 @@ std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space space) const 
     detail::query_engine<T, D> q(*this);
     std::vector<std::uint32_t> sorted = q.counts({}, false, false);
     if (space == index_space::sorted) return sorted;
+    // Gathered in the caller's order: sequential writes, and threads write disjoint parts.
     std::vector<std::uint32_t> out(size());
-    for (std::size_t s = 0; s < size(); ++s) out[perm_[s]] = sorted[s];
+    const int threads = q.threads;
+    detail::for_each_chunk(size(), detail::chunk_count(size(), threads, 1 << 15), threads,
+                           [&](std::size_t, std::size_t b, std::size_t e) {
+                               for (std::size_t i = b; i < e; ++i) out[i] = sorted[inverse_[i]];
+                           });
     return out;
 }
 
