@@ -133,11 +133,15 @@ public:
 
     /// The runs of sorted points whose cells lie within reach of x (internal, but public so
     /// that other backends and bindings can share one traversal).
-    std::size_t candidate_runs(const point& x, detail::candidate_run* out) const;
+    std::size_t candidate_runs(const point& x, detail::candidate_run* out) const {
+        return size() == 0 ? 0 : stencil_runs(cell_of(x), out);
+    }
+    /// The same around a cell given by its integer coordinates (as cell_of gives them).
+    std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out) const;
     /// Uniform grid with open boundaries only: the forward half of that stencil, the cells
-    /// after x's own cell in cell order (its own cell included), so that visiting these from
-    /// every cell meets each pair of cells once.
-    std::size_t forward_runs(const point& x, detail::candidate_run* out) const;
+    /// after `cell` in cell order (itself included), so that visiting these from every cell
+    /// meets each pair of cells once.
+    std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out) const;
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
     /// x + nx * (y + ny * z). Slot c holds the sorted points [cell_starts()[c], cell_starts()[c + 1]).
     std::array<std::int64_t, 3> cells_per_axis() const { return dims_; }

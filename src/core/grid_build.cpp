@@ -414,10 +414,8 @@ void grid<T, D>::mark_mixed_slots() {
 }
 
 template <class T, int D>
-std::size_t grid<T, D>::candidate_runs(const point& x, detail::candidate_run* out) const {
+std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out) const {
     std::size_t n = 0;
-    if (size() == 0) return 0;
-    const auto c = cell_of(x);
     const int k = reach_;
     // Appends a run, merging it with the previous one when they touch.
     auto add = [&](std::uint32_t b, std::uint32_t e) {
@@ -491,9 +489,7 @@ std::size_t grid<T, D>::candidate_runs(const point& x, detail::candidate_run* ou
 }
 
 template <class T, int D>
-std::size_t grid<T, D>::forward_runs(const point& x, detail::candidate_run* out) const {
-    if (size() == 0) return 0;
-    const auto c = cell_of(x);
+std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out) const {
     const int k = reach_;
     std::size_t n = 0;
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);

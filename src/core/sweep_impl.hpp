@@ -253,13 +253,36 @@ struct point_kernel {
     }
 };
 
-/// Calls f(begin, end) for each run of sorted points in [b, e) that share one cell (and so one
-/// candidate block).
+/// Calls f(begin, end, cell) for each run of sorted points in [b, e) that share one cell (and
+/// so one candidate block), with the cell's integer coordinates.
 template <class T, int D, class F>
 void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, F&& f) {
+    if (b >= e) return;
+    std::array<T, D> x;
+    for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(b, a);
+    auto cell = g.cell_of(x);
+    if (g.kind() == grid_kind::uniform && !g.periodic()) {
+        // Walk the cells in order from the first point's: no cell computation per group.
+        const auto starts = g.cell_starts();
+        const auto dims = g.cells_per_axis();
+        std::size_t slot = std::size_t(cell[0] + dims[0] * (cell[1] + dims[1] * cell[2]));
+        for (std::size_t s = b; s < e; ++slot) {
+            const std::size_t end = std::min<std::size_t>(starts[slot + 1], e);
+            if (end > s) {
+                f(std::uint32_t(s), std::uint32_t(end), cell);
+                s = end;
+            }
+            if (++cell[0] == dims[0]) {
+                cell[0] = 0;
+                if (++cell[1] == dims[1]) cell[1] = 0, ++cell[2];
+            }
+        }
+        return;
+    }
     for (std::size_t s = b; s < e;) {
+        for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
         const std::size_t end = std::min<std::size_t>(g.cell_group_end(std::uint32_t(s)), e);
-        f(std::uint32_t(s), std::uint32_t(end));
+        f(std::uint32_t(s), std::uint32_t(end), g.cell_of(x));
         s = end;
     }
 }
@@ -288,11 +311,11 @@ struct sweeper {
     }
     std::uint32_t id(std::uint32_t s) const { return job.ids ? job.ids[s] : s; }
 
-    void gather(std::uint32_t s) { block.gather(g, runs, g.candidate_runs(point(s), runs), job.ids); }
+    void gather(const std::array<std::int64_t, 3>& cell) { block.gather(g, runs, g.stencil_runs(cell, runs), job.ids); }
 
     void count(std::size_t b, std::size_t e) {
-        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge) {
-            gather(gb);
+        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell) {
+            gather(cell);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
                 const point_kernel<T, D> kern(x.data(), r2);
@@ -316,8 +339,8 @@ struct sweeper {
     /// sweeps of neighboring slabs one after the other.
     void count_pairs(std::size_t b, std::size_t e) {
         std::vector<std::uint32_t> acc;
-        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge) {
-            const std::size_t nruns = g.forward_runs(point(gb), runs);
+        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell) {
+            const std::size_t nruns = g.forward_runs(cell, runs);
             block.gather(g, runs, nruns, nullptr);
             grow(acc, block.padded);
             std::fill(acc.begin(), acc.begin() + block.padded, 0u);
@@ -342,8 +365,8 @@ struct sweeper {
         std::vector<std::uint32_t> row_ids;
         std::vector<T> row_d2;
         std::vector<std::pair<T, std::uint32_t>> pairs;
-        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge) {
-            gather(gb);
+        for_each_cell_group(g, b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell) {
+            gather(cell);
             if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
