@@ -114,6 +114,10 @@ public:
     std::vector<std::uint32_t> count_neighbors(index_space space = index_space::original) const;
     /// Neighbor lists of every point.
     csr<T> neighbor_lists(const list_options& options = {}) const;
+    /// The same into `out`, reusing its memory: in a time-step loop the arrays are allocated
+    /// once (with a little slack) instead of every step, which saves the page faults of
+    /// fresh memory. `out`'s previous contents are discarded.
+    void neighbor_lists(csr<T>& out, const list_options& options = {}) const;
     /// At most k nearest neighbors within r of every point, sorted by distance (ties by index).
     csr<T> nearest(std::size_t k, const list_options& options = {}) const;
     /// Points of this grid within r of each query point (N_q*D interleaved values): row q holds

@@ -17,7 +17,7 @@ public:
         serial(prof, stage::neighbors, [&] {
             list_options o;
             o.space = index_space::sorted;
-            lists_ = g.neighbor_lists(o);
+            g.neighbor_lists(lists_, o);  // reuses last step's arrays
         });
     }
     /// Neighbors of sorted particle i: [begin, end).

@@ -280,7 +280,11 @@ struct query_engine {
     /// Neighbor lists of all grid points or of query points; with k_nearest > 0 at most that many
     /// nearest per row. "j > i" of half lists is judged in the numbering `space` asks for.
     csr<T> lists(std::span<const T> queries, bool from_queries, const list_options& o, std::size_t k_nearest) const {
-        if (sweeps(from_queries)) return swept_lists(o, k_nearest);
+        if (sweeps(from_queries)) {
+            csr<T> out;
+            swept_lists(out, o, k_nearest);
+            return out;
+        }
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
         const std::size_t parts = chunk_count(rows, threads, 2048);
         std::vector<chunk_rows<T>> chunks(parts);
@@ -374,7 +378,7 @@ struct query_engine {
     }
 
     /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.
-    csr<T> swept_lists(const list_options& o, std::size_t k_nearest) const {
+    void swept_lists(csr<T>& out, const list_options& o, std::size_t k_nearest) const {
         const std::size_t rows = g.size();
         const auto perm = g.sorted_to_original();
         const bool sorted_space = o.space == index_space::sorted;
@@ -397,20 +401,30 @@ struct query_engine {
             }
         }
 
-        csr<T> out;
-        out.offsets.assign(rows + 1, 0);
+        resize_discarding(out.offsets, rows + 1);
+        out.offsets[rows] = 0;
         const auto inverse = g.original_to_sorted();
         for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
             for (std::size_t i = b; i < e; ++i) out.offsets[i] = sizes[sorted_space ? i : inverse[i]];
         });
         const std::uint64_t total = exclusive_scan(out.offsets.data(), rows + 1, threads);
-        out.indices.resize(total);
-        if (o.distances) out.distances.resize(total);
+        resize_discarding(out.indices, total);
+        resize_discarding(out.distances, o.distances ? total : 0);
         job.offsets = out.offsets.data();
         job.indices = out.indices.data();
         job.distances = o.distances ? out.distances.data() : nullptr;
         for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.fill(g, job, b, e); });
-        return out;
+    }
+
+    /// Resizes an array whose contents will all be overwritten: growing it allocates afresh
+    /// (with a little slack for the next time step) instead of copying the old contents.
+    template <class U>
+    static void resize_discarding(buffer<U>& v, std::size_t n) {
+        if (n > v.capacity()) {
+            v = buffer<U>();
+            v.reserve(n + n / 16);
+        }
+        v.resize(n);
     }
 
     /// Keeps the k nearest of the entries [start, used) of a chunk, ties broken by output index.
@@ -449,6 +463,13 @@ std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space space) const 
 template <class T, int D>
 csr<T> grid<T, D>::neighbor_lists(const list_options& options) const {
     return detail::query_engine<T, D>(*this).lists({}, false, options, 0);
+}
+
+template <class T, int D>
+void grid<T, D>::neighbor_lists(csr<T>& out, const list_options& options) const {
+    detail::query_engine<T, D> q(*this);
+    if (q.sweeps(false)) q.swept_lists(out, options, 0);
+    else out = q.lists({}, false, options, 0);
 }
 
 template <class T, int D>
@@ -495,6 +516,7 @@ void grid<T, D>::validate_queries(std::span<const T> queries) const {
 #define FRNN_INSTANTIATE_QUERIES(T, D)                                                              \
     template std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space) const;            \
     template csr<T> grid<T, D>::neighbor_lists(const list_options&) const;                         \
+    template void grid<T, D>::neighbor_lists(csr<T>&, const list_options&) const;                  \
     template csr<T> grid<T, D>::nearest(std::size_t, const list_options&) const;                   \
     template csr<T> grid<T, D>::query(std::span<const T>, const list_options&) const;              \
     template std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T>) const;        \

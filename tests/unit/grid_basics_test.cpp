@@ -64,3 +64,31 @@ TEST(grid_basics, nan_is_rejected_with_its_index) {
 }
 
 }  // namespace
+
+namespace {
+
+// Reusing one csr across calls (as a time-step loop does) gives exactly what fresh calls give,
+// when the lists grow, shrink, gain or lose distances, and on the periodic path.
+TEST(grid_basics, neighbor_lists_into_a_reused_csr_equal_fresh_ones) {
+    frnn::csr<double> reused;
+    std::size_t step = 0;
+    for (double radius : {0.5, 1.2, 0.3, 0.9}) {
+        for (bool periodic : {false, true}) {
+            const auto p = random_points(1500 + 300 * step, 3, 8.0, 40 + step);
+            frnn::grid_options go;
+            if (periodic) go.periodic = {8.0, 8.0, 8.0};
+            const frnn::grid<double, 3> g(p, radius, go);
+            frnn::list_options lo;
+            lo.distances = step % 2 == 0;
+            lo.space = step % 3 == 0 ? frnn::index_space::sorted : frnn::index_space::original;
+            const auto fresh = g.neighbor_lists(lo);
+            g.neighbor_lists(reused, lo);
+            EXPECT_EQ(reused.offsets, fresh.offsets) << "step " << step;
+            EXPECT_EQ(reused.indices, fresh.indices) << "step " << step;
+            EXPECT_EQ(reused.distances, fresh.distances) << "step " << step;
+            ++step;
+        }
+    }
+}
+
+}  // namespace
