@@ -387,7 +387,7 @@ struct sweeper {
                     if (d2) n = sort_row(n, ids, d2, pairs);
                     else std::sort(ids, ids + n);
                 }
-                if (job.k_nearest > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
+                if (job.k_nearest > 0 && n > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
                 if (job.distances) {
                     T* out = job.distances + dst;
                     for (std::uint32_t k = 0; k < n; ++k) out[k] = std::sqrt(d2[k]);
