@@ -18,6 +18,7 @@
 // concurrently with anything else on the same grid.
 #pragma once
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -43,6 +44,24 @@ struct candidate_run {
 inline constexpr std::size_t max_runs = 729;
 /// Extra values after the last sorted coordinate, so vector loads never leave the array.
 inline constexpr std::size_t coordinate_padding = 16;
+
+/// The inverse of a grid's permutation, computed on first use: most uses never need it, so the
+/// build neither writes it nor keeps its 4 bytes per point. Safe to call concurrently.
+class lazy_inverse {
+public:
+    lazy_inverse() = default;
+    lazy_inverse(const lazy_inverse& other) { *this = other; }
+    lazy_inverse& operator=(const lazy_inverse& other);
+    /// The inverse of `perm`, computed with `threads` threads if not yet known.
+    std::span<const std::uint32_t> get(std::span<const std::uint32_t> perm, int threads) const;
+    /// Forgets the map after a rebuild; its memory is kept for the next use.
+    void invalidate() { ready_.store(false, std::memory_order_release); }
+    std::size_t capacity_bytes() const { return map_.capacity() * sizeof(std::uint32_t); }
+
+private:
+    mutable buffer<std::uint32_t> map_;
+    mutable std::atomic<bool> ready_{false};
+};
 }  // namespace detail
 
 template <class T, int D>
@@ -77,7 +96,9 @@ public:
 
     /// sorted_to_original()[s] is the caller's index of the s-th point in cell order.
     std::span<const std::uint32_t> sorted_to_original() const { return perm_; }
-    std::span<const std::uint32_t> original_to_sorted() const { return inverse_; }
+    /// original_to_sorted()[i] is the position in cell order of the caller's point i. Computed
+    /// on the first call after a build (4 bytes per point from then on).
+    std::span<const std::uint32_t> original_to_sorted() const { return inverse_.get(perm_, threads()); }
     /// Coordinate `axis` of the s-th point in cell order.
     T sorted_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
     /// All coordinates on `axis` in cell order (size() values, then detail::coordinate_padding zeros).
@@ -89,7 +110,7 @@ public:
     template <class F>
     void for_each_neighbor(std::size_t i, F&& f) const {
         check_index(i);
-        const std::uint32_t s = inverse_[i];
+        const std::uint32_t s = original_to_sorted()[i];
         for_each_near_sorted(sorted_point(s), [&](std::uint32_t j, T d2) {
             if (j != s) f(perm_[j], d2);
         });
@@ -201,6 +222,8 @@ private:
     void validate_queries(std::span<const T> queries) const;
     void configure(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
+    /// Slots of the input points [b, e) of `coords` into out[0, e - b).
+    void input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const;
     void mark_mixed_slots();
     void group_cells(std::uint32_t begin, std::uint32_t end);
     std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
@@ -222,12 +245,11 @@ private:
     // Structure.
     std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis
     buffer<std::uint32_t> perm_;            // sorted -> original
-    buffer<std::uint32_t> inverse_;         // original -> sorted
+    detail::lazy_inverse inverse_;          // original -> sorted, on first use
     std::vector<std::uint32_t> offsets_;    // slots_ + 1 run starts
     std::vector<std::uint64_t> mixed_;      // hashed: bit per slot holding points of several cells
 
     // Build scratch, kept for rebuilds.
-    buffer<std::uint32_t> point_slot_;
     std::vector<std::uint32_t> thread_counts_;
 };
 

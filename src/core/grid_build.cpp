@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/hashing.hpp"
+#include "core/sweep.hpp"
 #include "cpu/parallel.hpp"
 #include "frnn/grid.hpp"
 
@@ -94,7 +95,7 @@ template <class T, int D>
 std::size_t grid<T, D>::memory_bytes() const {
     std::size_t bytes = 0;
     for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
-    bytes += (perm_.capacity() + inverse_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t);
+    bytes += (perm_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t) + inverse_.capacity_bytes();
     bytes += mixed_.capacity() * sizeof(std::uint64_t);
     return bytes;
 }
@@ -276,6 +277,24 @@ void grid<T, D>::rebuild(std::span<const T> coords) {
 }
 
 template <class T, int D>
+void grid<T, D>::input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const {
+    if (kind_ == grid_kind::uniform && !periodic_) {
+        // The common case in vector code (cells within 2^31 per axis: checked in configure).
+        detail::uniform_frame f{};
+        for (int a = 0; a < D; ++a) f.lo[a] = origin_[a], f.inv[a] = inv_cell_[a], f.top[a] = double(dims_[a] - 1);
+        f.stride1 = std::uint32_t(dims_[0]);
+        f.stride2 = std::uint32_t(dims_[0] * dims_[1]);
+        detail::sweep_for_cpu<T, D>().uniform_slots(coords, b, e, f, out);
+        return;
+    }
+    for (std::size_t i = b; i < e; ++i) {
+        point p;
+        for (int a = 0; a < D; ++a) p[a] = coords[i * D + a];
+        out[i - b] = slot_of_cell(cell_of(p));
+    }
+}
+
+template <class T, int D>
 void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     const std::size_t n = coords.size() / D;
     const int threads = detail::resolve_threads(options_.threads);
@@ -288,36 +307,34 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         std::fill(p.begin() + std::ptrdiff_t(n), p.end(), T(0));
     }
     perm_.resize(n);
-    inverse_.resize(n);
-    point_slot_.resize(n);
+    inverse_.invalidate();
     offsets_.assign(slots_ + 1, 0);
     thread_counts_.assign(parts * slots_, 0);
 
-    // 1. Insert: each point's cell, and per-chunk counts of every cell.
+    // 1. Insert: per-chunk counts of every cell, and how many points fall in the cell of the
+    // point before them or the next one (input already in cell order, or nearly).
+    // Calls f(i, slot of i) for the input points [b, e). Slots are computed in batches, in
+    // both passes, rather than stored: that is cheaper than writing and reading them back.
+    auto for_each_slot = [&](std::size_t b, std::size_t e, auto&& f) {
+        constexpr std::size_t batch = 256;
+        std::uint32_t slot[batch];
+        for (std::size_t i0 = b; i0 < e; i0 += batch) {
+            const std::size_t m = std::min(batch, e - i0);
+            input_slots(coords.data(), i0, i0 + m, slot);
+            for (std::size_t k = 0; k < m; ++k) f(i0 + k, slot[k]);
+        }
+    };
+    std::vector<std::size_t> local(parts, 0);
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         std::uint32_t* counts = thread_counts_.data() + c * slots_;
-        if (kind_ == grid_kind::uniform && !periodic_) {
-            // The common case inline: cell_of's arithmetic, then the row-major slot.
-            double lo[3], inv[3], top[3];
-            for (int a = 0; a < D; ++a) lo[a] = origin_[a], inv[a] = inv_cell_[a], top[a] = double(dims_[a] - 1);
-            const std::uint64_t stride1 = std::uint64_t(dims_[0]), stride2 = std::uint64_t(dims_[0] * dims_[1]);
-            for (std::size_t i = b; i < e; ++i) {
-                std::uint64_t cell[3] = {0, 0, 0};
-                for (int a = 0; a < D; ++a)
-                    cell[a] = std::uint64_t(std::clamp((double(coords[i * D + a]) - lo[a]) * inv[a], 0.0, top[a]));
-                const std::uint32_t s = std::uint32_t(cell[0] + stride1 * cell[1] + stride2 * cell[2]);
-                point_slot_[i] = s;
-                ++counts[s];
-            }
-            return;
-        }
-        point p;
-        for (std::size_t i = b; i < e; ++i) {
-            for (int a = 0; a < D; ++a) p[a] = coords[i * D + a];
-            const std::uint32_t s = slot_of_cell(cell_of(p));
-            point_slot_[i] = s;
+        std::uint32_t prev = 0;
+        std::size_t near = 0;
+        for_each_slot(b, e, [&](std::size_t, std::uint32_t s) {
+            near += s - prev <= 1;
+            prev = s;
             ++counts[s];
-        }
+        });
+        local[c] = near;
     });
     // 2. Per cell: start of each chunk inside the cell, and the cell's total.
     const std::size_t slot_parts = detail::chunk_count(slots_, threads, 1 << 14);
@@ -334,9 +351,24 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     });
     // 3. Exclusive prefix sum: where each cell starts.
     detail::exclusive_scan(offsets_.data(), slots_ + 1, threads);
-    // 4. Stable scatter into cell order. Each point goes as one record (coordinates and index)
-    // to a scratch array, so that inputs in random order cost one scattered write per point
-    // instead of D + 1; a streaming pass then splits the records into the arrays per axis.
+    // 4. Stable scatter into cell order. Input in cell order (or nearly) is written straight
+    // into the arrays: its writes stay within a few cells. Other input goes as one record
+    // (coordinates and index) per point to a scratch array, one scattered write instead of
+    // D + 1, and a streaming pass splits the records into the arrays per axis.
+    std::size_t near = 0;
+    for (auto v : local) near += v;
+    if (2 * near >= n) {
+        detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            std::uint32_t* next = thread_counts_.data() + c * slots_;
+            for_each_slot(b, e, [&](std::size_t i, std::uint32_t s) {
+                const std::uint32_t dst = offsets_[s] + next[s]++;
+                for (int a = 0; a < D; ++a) pos_[a][dst] = coords[i * D + a];
+                perm_[dst] = std::uint32_t(i);
+            });
+        });
+        mark_mixed_slots();
+        return;
+    }
     struct record {
         T x[D];
         std::uint32_t index;
@@ -344,14 +376,11 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     buffer<record> records(n);
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         std::uint32_t* next = thread_counts_.data() + c * slots_;
-        for (std::size_t i = b; i < e; ++i) {
-            const std::uint32_t s = point_slot_[i];
-            const std::uint32_t dst = offsets_[s] + next[s]++;
-            record& r = records[dst];
+        for_each_slot(b, e, [&](std::size_t i, std::uint32_t s) {
+            record& r = records[offsets_[s] + next[s]++];
             for (int a = 0; a < D; ++a) r.x[a] = coords[i * D + a];
             r.index = std::uint32_t(i);
-            inverse_[i] = dst;
-        }
+        });
     });
     detail::for_each_chunk(n, detail::chunk_count(n, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t s = b; s < e; ++s) {
@@ -366,18 +395,17 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
 // cell's points are contiguous and share one candidate block in the sweeps.
 template <class T, int D>
 void grid<T, D>::group_cells(std::uint32_t b, std::uint32_t e) {
+    // (cell, old position - b), sorted by cell; then both arrays are rewritten in that order.
     std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> keyed;
-    for (std::uint32_t j = b; j < e; ++j) keyed.push_back({cell_of(sorted_point(j)), perm_[j]});
+    for (std::uint32_t j = b; j < e; ++j) keyed.push_back({cell_of(sorted_point(j)), j - b});
     std::stable_sort(keyed.begin(), keyed.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
     std::vector<point> points;
+    std::vector<std::uint32_t> ids(perm_.begin() + b, perm_.begin() + e);
     for (std::uint32_t j = b; j < e; ++j) points.push_back(sorted_point(j));
     for (std::uint32_t j = b; j < e; ++j) {
-        const std::uint32_t from = inverse_[keyed[j - b].second];  // its old sorted position
-        for (int a = 0; a < D; ++a) pos_[a][j] = points[from - b][a];
-    }
-    for (std::uint32_t j = b; j < e; ++j) {
-        perm_[j] = keyed[j - b].second;
-        inverse_[perm_[j]] = j;
+        const std::uint32_t from = keyed[j - b].second;
+        for (int a = 0; a < D; ++a) pos_[a][j] = points[from][a];
+        perm_[j] = ids[from];
     }
 }
 

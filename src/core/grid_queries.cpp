@@ -403,9 +403,8 @@ struct query_engine {
 
         resize_discarding(out.offsets, rows + 1);
         out.offsets[rows] = 0;
-        const auto inverse = g.original_to_sorted();
         for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) out.offsets[i] = sizes[sorted_space ? i : inverse[i]];
+            for (std::size_t s = b; s < e; ++s) out.offsets[sorted_space ? s : perm[s]] = sizes[s];
         });
         const std::uint64_t total = exclusive_scan(out.offsets.data(), rows + 1, threads);
         resize_discarding(out.indices, total);
@@ -450,12 +449,12 @@ std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space space) const 
     detail::query_engine<T, D> q(*this);
     std::vector<std::uint32_t> sorted = q.counts({}, false, false);
     if (space == index_space::sorted) return sorted;
-    // Gathered in the caller's order: sequential writes, and threads write disjoint parts.
+    // Scattered to the caller's order (a permutation: threads write distinct elements).
     std::vector<std::uint32_t> out(size());
     const int threads = q.threads;
     detail::for_each_chunk(size(), detail::chunk_count(size(), threads, 1 << 15), threads,
                            [&](std::size_t, std::size_t b, std::size_t e) {
-                               for (std::size_t i = b; i < e; ++i) out[i] = sorted[inverse_[i]];
+                               for (std::size_t s = b; s < e; ++s) out[perm_[s]] = sorted[s];
                            });
     return out;
 }

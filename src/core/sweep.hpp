@@ -32,6 +32,13 @@ struct sweep_job {
     T* distances = nullptr;                   ///< null: not wanted
 };
 
+/// Uniform grid with open boundaries: cell (x, y, z) of a point holds
+/// clamp((x - lo) * inv, 0, top) on every axis (grid::cell_of), its slot x + stride1 y + stride2 z.
+struct uniform_frame {
+    double lo[3], inv[3], top[3];
+    std::uint32_t stride1, stride2;
+};
+
 template <class T, int D>
 struct sweep_kernels {
     /// Row sizes of the sorted points [b, e) into job.counts.
@@ -43,6 +50,9 @@ struct sweep_kernels {
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// Not a sweep, but vector code of the build: the slots of the input points [b, e) of
+    /// `coords` (interleaved) into out[0, e - b).
+    void (*uniform_slots)(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out);
 };
 
 /// The kernels of the level in use (see frnn/simd.hpp).

@@ -431,8 +431,21 @@ void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size
 }
 
 template <class T, int D>
+void uniform_slots(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out) {
+    // min/max rather than std::clamp, so that the loop is branch-free and vectorizes.
+    for (std::size_t i = b; i < e; ++i) {
+        std::uint32_t cell[3] = {0, 0, 0};
+        for (int a = 0; a < D; ++a) {
+            const double u = (double(coords[i * D + a]) - f.lo[a]) * f.inv[a];
+            cell[a] = std::uint32_t(std::int32_t(std::min(std::max(u, 0.0), f.top[a])));
+        }
+        out[i - b] = cell[0] + f.stride1 * cell[1] + f.stride2 * cell[2];
+    }
+}
+
+template <class T, int D>
 const sweep_kernels<T, D>& table() {
-    static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>};
+    static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>, &uniform_slots<T, D>};
     return t;
 }
 

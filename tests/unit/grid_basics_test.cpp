@@ -92,3 +92,60 @@ TEST(grid_basics, neighbor_lists_into_a_reused_csr_equal_fresh_ones) {
 }
 
 }  // namespace
+
+namespace {
+
+bool is_inverse(std::span<const std::uint32_t> inv, std::span<const std::uint32_t> perm) {
+    if (inv.size() != perm.size()) return false;
+    for (std::size_t s = 0; s < perm.size(); ++s)
+        if (inv[perm[s]] != s) return false;
+    return true;
+}
+
+// original_to_sorted is computed on first use: it must follow rebuilds and copies, and its
+// memory is only held once asked for.
+TEST(grid_basics, original_to_sorted_is_computed_on_first_use_and_follows_rebuilds) {
+    const std::size_t n = 5000;
+    auto p = random_points(n, 3, 10.0, 3);
+    frnn::grid<double, 3> g(p, 0.7);
+    const std::size_t before = g.memory_bytes();
+    EXPECT_TRUE(is_inverse(g.original_to_sorted(), g.sorted_to_original()));
+    EXPECT_EQ(g.memory_bytes(), before + n * sizeof(std::uint32_t));
+
+    std::reverse(p.begin(), p.end());  // other points, so another permutation
+    g.rebuild(p);
+    EXPECT_TRUE(is_inverse(g.original_to_sorted(), g.sorted_to_original()));
+    const frnn::grid<double, 3> copy = g;
+    EXPECT_TRUE(is_inverse(copy.original_to_sorted(), copy.sorted_to_original()));
+    // for_each_neighbor(i) goes through the map: its neighbors are i's true neighbors.
+    std::size_t found = 0;
+    g.for_each_neighbor(17, [&](std::uint32_t j, double d2) {
+        double e2 = 0;
+        for (int a = 0; a < 3; ++a) e2 += (p[j * 3 + a] - p[17 * 3 + a]) * (p[j * 3 + a] - p[17 * 3 + a]);
+        EXPECT_EQ(d2, e2);
+        ++found;
+    });
+    EXPECT_EQ(found, g.count_neighbors()[17]);
+}
+
+// Input already in cell order takes the build's direct scatter: the sort must still be stable
+// (identity permutation) for any thread count, and equal the sort of shuffled input.
+TEST(grid_basics, input_in_cell_order_sorts_stably_for_any_thread_count) {
+    auto p = random_points(40000, 3, 30.0, 9);
+    const frnn::grid<double, 3> shuffled(p, 1.0);
+    shuffled.reorder(std::span<double>(p), 3);
+    for (int threads : {1, 2, 3}) {
+        frnn::grid_options o;
+        o.threads = threads;
+        const frnn::grid<double, 3> g(p, 1.0, o);
+        const auto perm = g.sorted_to_original();
+        std::size_t moved = 0;
+        for (std::size_t s = 0; s < perm.size(); ++s) moved += perm[s] != s;
+        EXPECT_EQ(moved, 0u) << threads << " threads";
+        for (std::size_t s = 0; s < perm.size(); ++s)
+            for (int a = 0; a < 3; ++a)
+                ASSERT_EQ(g.sorted_coord(s, a), shuffled.sorted_coord(s, a)) << s;
+    }
+}
+
+}  // namespace
