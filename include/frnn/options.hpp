@@ -8,7 +8,8 @@ namespace frnn {
 
 /// Which spatial structure a grid uses.
 enum class grid_kind {
-    automatic,  ///< uniform when its cell count is reasonable for N, hashed otherwise
+    automatic,  ///< uniform when its cell count is reasonable for N (over the points' bulk
+                ///< when at most 1 in 1024 lie far outside it), hashed otherwise
     uniform,    ///< dense cells over a bounded box (the points' bounding box or `domain_*`)
     hashed,     ///< cells keyed by integer coordinates in a table sized from N: unbounded domains
 };

@@ -30,6 +30,50 @@ inline std::int64_t floor_to_int(double v) {
     return i - std::int64_t(double(i) > v);
 }
 
+// The box of the bulk of the points, for the automatic kind: per axis, the range between the
+// 1/1024 quantiles of a sample of up to 2^16 points, widened by an eighth of itself (and at
+// least one cell) on each side, so that points of a compact bulk all fall inside.
+template <class T, int D>
+void bulk_box(std::span<const T> coords, double cell, double* lo, double* hi) {
+    const std::size_t n = coords.size() / D;
+    const std::size_t stride = std::max<std::size_t>(1, n >> 16);
+    std::vector<double> v;
+    for (int a = 0; a < D; ++a) {
+        v.clear();
+        for (std::size_t i = 0; i < n; i += stride) v.push_back(double(coords[i * D + a]));
+        const std::size_t k = v.size() / 1024;
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+        const double low = v[k];
+        std::nth_element(v.begin(), v.end() - std::ptrdiff_t(k + 1), v.end());
+        const double high = v[v.size() - k - 1];
+        const double margin = std::max((high - low) / 8, cell);
+        lo[a] = low - margin, hi[a] = high + margin;
+    }
+}
+
+// How many points lie outside the box [lo, hi].
+template <class T, int D>
+std::size_t count_outside(std::span<const T> coords, const double* lo, const double* hi, int threads) {
+    const std::size_t n = coords.size() / D;
+    const std::size_t parts = detail::chunk_count(n, threads, 1 << 15);
+    std::vector<std::size_t> outside(parts, 0);
+    detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+        std::size_t count = 0;
+        for (std::size_t i = b; i < e; ++i) {
+            bool out = false;
+            for (int a = 0; a < D; ++a) {
+                const double x = double(coords[i * D + a]);
+                out |= (x < lo[a]) | (x > hi[a]);
+            }
+            count += out;
+        }
+        outside[c] = count;
+    });
+    std::size_t total = 0;
+    for (auto v : outside) total += v;
+    return total;
+}
+
 std::string fmt_double(double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -210,11 +254,27 @@ void grid<T, D>::configure(std::span<const T> coords) {
                 lo[a] = o.domain_min[a], hi[a] = o.domain_max[a];
             }
         }
-        double cells = 1;
-        for (int a = 0; a < D; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
+        auto cells_over = [&](const double* l, const double* h) {
+            double cells = 1;
+            for (int a = 0; a < D; ++a) cells *= std::floor((h[a] - l[a]) / cell) + 1;
+            return cells;
+        };
+        double cells = cells_over(lo.data(), hi.data());
+        const double cap = std::max(4.0 * double(n), 4096.0);
         grid_kind kind = o.kind;
-        if (kind == grid_kind::automatic)
-            kind = cells <= std::max(4.0 * double(n), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
+        if (kind == grid_kind::automatic && cells > cap && o.domain_min.empty()) {
+            // A few far outliers should not force the hashed grid: a uniform grid over the
+            // bulk takes them into its border cells (exact, as with an explicit domain) when
+            // they are at most one in 1024 points.
+            double blo[3] = {0, 0, 0}, bhi[3] = {0, 0, 0};
+            bulk_box<T, D>(coords, cell, blo, bhi);
+            if (cells_over(blo, bhi) <= cap &&
+                count_outside<T, D>(coords, blo, bhi, detail::resolve_threads(o.threads)) <= n / 1024) {
+                for (int a = 0; a < D; ++a) lo[a] = blo[a], hi[a] = bhi[a];
+                cells = cells_over(blo, bhi);
+            }
+        }
+        if (kind == grid_kind::automatic) kind = cells <= cap ? grid_kind::uniform : grid_kind::hashed;
         if (kind == grid_kind::uniform && !(cells <= max_uniform_cells))
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
                         " cells (extent / cell size); use the hashed grid");

@@ -170,6 +170,30 @@ TEST(OracleAdversarial, FarOutlier) {
     check_all<double, 3>(pts, 1.0, opt, queries);
 }
 
+// A few far outliers (at most one in 1024 points): the automatic choice is a uniform grid over
+// the bulk, with the outliers folded into its border cells; outliers near each other must still
+// find each other. More outliers than that: the hashed grid.
+TEST(OracleAdversarial, FewFarOutliersFoldIntoAUniformGridOverTheBulk) {
+    auto pts = uniform_points<double, 3>(6000, 0, 9, 121);
+    for (double dx : {0.0, 0.5, 0.9}) pts.insert(pts.end(), {1e6 + dx, 1e6, 1e6});
+    pts.insert(pts.end(), {-1e7, 5, 5, 5, 5, 3e5});  // 5 outliers in 6005 points
+    const auto queries = query_points<double, 3>(uniform_points<double, 3>(50, 0, 10, 122), 1.0, 40, {}, 123);
+    for (double cell : {1.0, 0.5}) {
+        grid_options opt;
+        opt.cell_size = cell;
+        SCOPED_TRACE("cell=" + std::to_string(cell));
+        grid<double, 3> g(pts, 1.0, opt);
+        EXPECT_EQ(g.kind(), grid_kind::uniform);
+        EXPECT_LT(g.cell_count(), 4 * 6005u);
+        const std::vector<double> far{1e6 + 0.2, 1e6, 1e6, -1e7, 5, 5, 5, 5, 3e5 - 0.5};
+        check_grid<double, 3>(g, pts, 1.0, {}, far, cell == 1.0 ? depth::full : depth::basic);
+    }
+    for (int k = 0; k < 20; ++k) pts.insert(pts.end(), {1e6 + 10.0 * k, -1e6, 0});
+    grid<double, 3> g(pts, 1.0);
+    EXPECT_EQ(g.kind(), grid_kind::hashed);
+    check_grid<double, 3>(g, pts, 1.0, {}, queries, depth::basic);
+}
+
 TEST(OracleAdversarial, EmptyInput) {
     every_grid<double, 3>({}, 1.0, {0, 0, 0, 1, 2, 3});
     every_grid<float, 2>({}, 0.5f, {0, 0});
