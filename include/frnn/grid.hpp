@@ -161,12 +161,16 @@ public:
     std::size_t candidate_runs(const point& x, detail::candidate_run* out) const {
         return size() == 0 ? 0 : stencil_runs(cell_of(x), out);
     }
-    /// The same around a cell given by its integer coordinates (as cell_of gives them).
-    std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out) const;
+    /// The same around a cell given by its integer coordinates (as cell_of gives them). On the
+    /// uniform grid with open boundaries, `width` > 1 takes the union of the stencils of that
+    /// many cells along x from `cell` on (which must lie in the grid).
+    std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
+                             std::int64_t width = 1) const;
     /// Uniform grid with open boundaries only: the forward half of that stencil, the cells
     /// after `cell` in cell order (itself included), so that visiting these from every cell
-    /// meets each pair of cells once.
-    std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out) const;
+    /// meets each pair of cells once (pairs inside the row's cells once by index order).
+    std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
+                             std::int64_t width = 1) const;
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
     /// x + nx * (y + ny * z). Slot c holds the sorted points [cell_starts()[c], cell_starts()[c + 1]).
     std::array<std::int64_t, 3> cells_per_axis() const { return dims_; }

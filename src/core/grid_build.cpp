@@ -502,7 +502,8 @@ void grid<T, D>::mark_mixed_slots() {
 }
 
 template <class T, int D>
-std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out) const {
+std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
+                                     std::int64_t width) const {
     std::size_t n = 0;
     const int k = reach_;
     // Appends a run, merging it with the previous one when they touch.
@@ -517,7 +518,7 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
     const int zr = D == 3 ? k : 0;
     if (kind_ == grid_kind::uniform && !periodic_) {
         const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
-        const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + k);
+        const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
         for (int dz = -zr; dz <= zr; ++dz) {
             const std::int64_t z = c[2] + dz;
             if (z < 0 || z >= dims_[2]) continue;
@@ -577,11 +578,12 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
 }
 
 template <class T, int D>
-std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out) const {
+std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
+                                     std::int64_t width) const {
     const int k = reach_;
     std::size_t n = 0;
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
-    const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + k);
+    const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
     auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {
         const std::int64_t row = (z * dims_[1] + y) * dims_[0];
         const std::uint32_t b = offsets_[row + from], e = offsets_[row + x1 + 1];
