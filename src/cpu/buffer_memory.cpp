@@ -1,4 +1,5 @@
 // Memory of frnn::buffer: huge-page-aligned blocks for large arrays (see frnn/buffer.hpp).
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 
@@ -24,17 +25,39 @@ bool large(std::size_t bytes) {
 void* allocate_large(std::size_t bytes) {
     if (!large(bytes)) return ::operator new(bytes);
     const std::size_t rounded = rounded_to_huge_pages(bytes);
-    void* p = std::aligned_alloc(huge_page, rounded);
-    if (!p) throw std::bad_alloc();
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+#if defined(__linux__)
+    // Mapped directly rather than taken from the heap, so that freeing it gives the memory back
+    // at once (the heap keeps freed blocks resident). Over-mapped by one huge page, then trimmed
+    // to a huge-page boundary.
+    void* raw = mmap(nullptr, rounded + huge_page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (raw == MAP_FAILED) throw std::bad_alloc();
+    const auto begin = reinterpret_cast<std::uintptr_t>(raw);
+    const std::uintptr_t start = (begin + huge_page - 1) / huge_page * huge_page;
+    if (start > begin) munmap(raw, start - begin);
+    const std::uintptr_t tail = begin + rounded + huge_page - (start + rounded);
+    if (tail > 0) munmap(reinterpret_cast<void*>(start + rounded), tail);
+    void* p = reinterpret_cast<void*>(start);
+#if defined(MADV_HUGEPAGE)
     madvise(p, rounded, MADV_HUGEPAGE);  // a hint: without it the memory still works
 #endif
     return p;
+#else
+    void* p = std::aligned_alloc(huge_page, rounded);
+    if (!p) throw std::bad_alloc();
+    return p;
+#endif
 }
 
 void deallocate_large(void* p, std::size_t bytes) noexcept {
-    if (!large(bytes)) ::operator delete(p);
-    else std::free(p);
+    if (!large(bytes)) {
+        ::operator delete(p);
+        return;
+    }
+#if defined(__linux__)
+    munmap(p, rounded_to_huge_pages(bytes));
+#else
+    std::free(p);
+#endif
 }
 
 }  // namespace frnn::detail
