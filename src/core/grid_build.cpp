@@ -31,12 +31,12 @@ inline std::int64_t floor_to_int(double v) {
 }
 
 // The box of the bulk of the points, for the automatic kind: per axis, the range between the
-// 1/1024 quantiles of a sample of up to 2^16 points, widened by an eighth of itself (and at
+// 1/1024 quantiles of a sample of about 2^14 points, widened by an eighth of itself (and at
 // least one cell) on each side, so that points of a compact bulk all fall inside.
 template <class T, int D>
 void bulk_box(std::span<const T> coords, double cell, double* lo, double* hi) {
     const std::size_t n = coords.size() / D;
-    const std::size_t stride = std::max<std::size_t>(1, n >> 16);
+    const std::size_t stride = std::max<std::size_t>(1, n >> 14);
     std::vector<double> v;
     for (int a = 0; a < D; ++a) {
         v.clear();
@@ -345,6 +345,13 @@ void grid<T, D>::input_slots(const T* coords, std::size_t b, std::size_t e, std:
         f.stride1 = std::uint32_t(dims_[0]);
         f.stride2 = std::uint32_t(dims_[0] * dims_[1]);
         detail::sweep_for_cpu<T, D>().uniform_slots(coords, b, e, f, out);
+        return;
+    }
+    if (kind_ == grid_kind::hashed) {
+        detail::hashed_frame f{};
+        for (int a = 0; a < D; ++a) f.inv[a] = inv_cell_[a];
+        f.mask = slots_ - 1;
+        detail::sweep_for_cpu<T, D>().hashed_slots(coords, b, e, f, out);
         return;
     }
     for (std::size_t i = b; i < e; ++i) {

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/hashing.hpp"
 #include "frnn/grid.hpp"
 
 namespace frnn::detail {
@@ -39,6 +40,13 @@ struct uniform_frame {
     std::uint32_t stride1, stride2;
 };
 
+/// Hashed grid: cell (x, y, z) of a point holds floor(x * inv) on every axis, its slot
+/// (row_hash(y, z) + x) & mask.
+struct hashed_frame {
+    double inv[3];
+    std::uint64_t mask;
+};
+
 template <class T, int D>
 struct sweep_kernels {
     /// Row sizes of the sorted points [b, e) into job.counts.
@@ -53,6 +61,8 @@ struct sweep_kernels {
     /// Not a sweep, but vector code of the build: the slots of the input points [b, e) of
     /// `coords` (interleaved) into out[0, e - b).
     void (*uniform_slots)(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out);
+    /// The same for the hashed grid.
+    void (*hashed_slots)(const T* coords, std::size_t b, std::size_t e, const hashed_frame& f, std::uint32_t* out);
 };
 
 /// The kernels of the level in use (see frnn/simd.hpp).

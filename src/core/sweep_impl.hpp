@@ -462,8 +462,22 @@ void uniform_slots(const T* coords, std::size_t b, std::size_t e, const uniform_
 }
 
 template <class T, int D>
+void hashed_slots(const T* coords, std::size_t b, std::size_t e, const hashed_frame& f, std::uint32_t* out) {
+    for (std::size_t i = b; i < e; ++i) {
+        std::int64_t cell[3] = {0, 0, 0};
+        for (int a = 0; a < D; ++a) {
+            const double v = double(coords[i * D + a]) * f.inv[a];
+            const auto whole = std::int64_t(v);  // floor(v): |v| < 2^52 is checked at build
+            cell[a] = whole - std::int64_t(double(whole) > v);
+        }
+        out[i - b] = std::uint32_t((row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & f.mask);
+    }
+}
+
+template <class T, int D>
 const sweep_kernels<T, D>& table() {
-    static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>, &uniform_slots<T, D>};
+    static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>, &uniform_slots<T, D>,
+                                       &hashed_slots<T, D>};
     return t;
 }
 
