@@ -166,9 +166,10 @@ public:
     /// many cells along x from `cell` on (which must lie in the grid).
     std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1) const;
-    /// Uniform grid with open boundaries only: the forward half of that stencil, the cells
-    /// after `cell` in cell order (itself included), so that visiting these from every cell
-    /// meets each pair of cells once (pairs inside the row's cells once by index order).
+    /// Open boundaries only: the forward half of that stencil, the cells after `cell` in
+    /// row-major order of cell coordinates (itself included, first), so that visiting these
+    /// from every cell meets each pair of cells once (pairs inside the first run once by index
+    /// order). `width` as for stencil_runs, uniform grid only.
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1) const;
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
@@ -231,6 +232,8 @@ private:
     void mark_mixed_slots();
     void group_cells(std::uint32_t begin, std::uint32_t end);
     std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
+    std::size_t hashed_row_runs(std::int64_t y, std::int64_t z, std::int64_t x0, std::int64_t x1,
+                                detail::candidate_run* out, std::size_t n) const;
 
     // Configuration.
     grid_options options_;

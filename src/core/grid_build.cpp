@@ -562,25 +562,30 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
             }
         return n;
     }
-    // Hashed: consecutive x cells are consecutive slots; verify each slot's owner cell.
-    const std::uint64_t mask = slots_ - 1;
-
     for (int dz = -zr; dz <= zr; ++dz)
-        for (int dy = -k; dy <= k; ++dy) {
-            const std::array<std::int64_t, 3> rowcell{0, c[1] + dy, c[2] + dz};
-            const std::uint64_t h = detail::row_hash(rowcell[1], rowcell[2]);
-            for (int dx = -k; dx <= k; ++dx) {
-                const std::array<std::int64_t, 3> cell{c[0] + dx, rowcell[1], rowcell[2]};
-                const std::size_t s = (h + std::uint64_t(cell[0])) & mask;
-                const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
-                if (b == e) continue;
-                if (mixed_[s / 64] >> (s % 64) & 1) {
-                    out[n++] = {b, e, true, cell};
-                } else if (hashed_point_in_cell(b, cell)) {
-                    add(b, e);
-                }
-            }
+        for (int dy = -k; dy <= k; ++dy) n = hashed_row_runs(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k, out, n);
+    return n;
+}
+
+// Appends the runs of the hashed grid's cells x0..x1 of row (y, z) to out[0, n): consecutive x
+// cells are consecutive slots; each slot's owner cell is verified.
+template <class T, int D>
+std::size_t grid<T, D>::hashed_row_runs(std::int64_t y, std::int64_t z, std::int64_t x0, std::int64_t x1,
+                                        detail::candidate_run* out, std::size_t n) const {
+    const std::uint64_t mask = slots_ - 1;
+    const std::uint64_t h = detail::row_hash(y, z);
+    for (std::int64_t x = x0; x <= x1; ++x) {
+        const std::array<std::int64_t, 3> cell{x, y, z};
+        const std::size_t s = (h + std::uint64_t(x)) & mask;
+        const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
+        if (b == e) continue;
+        if (mixed_[s / 64] >> (s % 64) & 1) {
+            out[n++] = {b, e, true, cell};
+        } else if (hashed_point_in_cell(b, cell)) {
+            if (n > 0 && !out[n - 1].filter && out[n - 1].end == b) out[n - 1].end = e;  // touching: merge
+            else out[n++] = {b, e, false, {}};
         }
+    }
     return n;
 }
 
@@ -589,6 +594,15 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
                                      std::int64_t width) const {
     const int k = reach_;
     std::size_t n = 0;
+    if (kind_ == grid_kind::hashed) {  // the same cells, found through the table
+        n = hashed_row_runs(c[1], c[2], c[0], c[0] + k, out, n);
+        for (int dy = 1; dy <= k; ++dy) n = hashed_row_runs(c[1] + dy, c[2], c[0] - k, c[0] + k, out, n);
+        if constexpr (D == 3) {
+            for (int dz = 1; dz <= k; ++dz)
+                for (int dy = -k; dy <= k; ++dy) n = hashed_row_runs(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k, out, n);
+        }
+        return n;
+    }
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
     const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
     auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {

@@ -352,13 +352,25 @@ struct query_engine {
         sweep_job<T> job;
         job.self = self;
         job.counts = counts;
-        if (g.kind() != grid_kind::uniform) {
-            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
-                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
-            return;
-        }
         const std::uint32_t start = self ? 1 : 0;
         std::fill(counts, counts + rows, start);
+        if (g.kind() != grid_kind::uniform) {
+            // Hashed: the partners of a cell lie anywhere in memory, so each thread adds their
+            // counts into its own array, summed at the end (integers: the same for any order).
+            const std::size_t parts = chunk_count(rows, threads, 2048);
+            const int workers = int(std::min<std::size_t>(parts, std::size_t(threads)));
+            std::vector<std::vector<std::uint32_t>> partners(std::size_t(workers), std::vector<std::uint32_t>(rows, 0));
+            for_each_chunk(rows, parts, workers, [&](std::size_t, std::size_t b, std::size_t e) {
+                sweep_job<T> own = job;
+                own.partner_counts = partners[std::size_t(omp_get_thread_num())].data();
+                kernels.count_pairs(g, own, b, e);
+            });
+            for_each_chunk(rows, chunk_count(rows, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
+                for (const auto& p : partners)
+                    for (std::size_t i = b; i < e; ++i) counts[i] += p[i];
+            });
+            return;
+        }
         const auto dims = g.cells_per_axis();
         const std::size_t layers = std::size_t(dims[D - 1]);
         const std::size_t per_layer = D == 3 ? std::size_t(dims[0] * dims[1]) : std::size_t(dims[0]);

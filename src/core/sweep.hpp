@@ -28,6 +28,8 @@ struct sweep_job {
     row_order order = row_order::none;
 
     std::uint32_t* counts = nullptr;          ///< count sweep: row sizes by sorted index
+    /// count_pairs: where the counts of the partner points go; null: into counts as well.
+    std::uint32_t* partner_counts = nullptr;
     const std::uint64_t* offsets = nullptr;   ///< fill sweep: row starts by output row
     std::uint32_t* indices = nullptr;
     T* distances = nullptr;                   ///< null: not wanted
@@ -51,10 +53,11 @@ template <class T, int D>
 struct sweep_kernels {
     /// Row sizes of the sorted points [b, e) into job.counts.
     void (*count)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// Uniform grid, open boundaries: adds to job.counts (zero before the first sweep) the
-    /// neighbors of all points, meeting each pair once from the cells of [b, e). Also writes
-    /// counts of points up to `reach` cell layers after e, so sweeps of adjacent slabs of
-    /// layers must not run at the same time.
+    /// Open boundaries: adds to job.counts (zero before the first sweep) the neighbors of
+    /// all points, meeting each pair once from the cells of [b, e): the points of [b, e)
+    /// get their own count, the partner points found in later cells theirs in
+    /// job.partner_counts (or job.counts). On the uniform grid those lie up to `reach` cell
+    /// layers after e, so sweeps of adjacent slabs of layers must not share one array then.
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);

@@ -148,6 +148,16 @@ struct point_kernel {
         return d;
     }
 
+#if FRNN_SWEEP_BYTES == 64
+    /// Bit l set when ids[l] > me, for the lanes of one vector of T.
+    static std::uint32_t later_ids(const std::uint32_t* ids, std::uint32_t me) {
+        if constexpr (sizeof(T) == 4)
+            return _mm512_cmpgt_epu32_mask(_mm512_loadu_si512(ids), _mm512_set1_epi32(int(me)));
+        else
+            return _mm256_cmpgt_epu32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids)), _mm256_set1_epi32(int(me)));
+    }
+#endif
+
     /// Candidates within r, the point itself included.
     std::uint32_t count_all(const candidate_block<T, D>& b) const {
         const T* c[D];
@@ -158,9 +168,11 @@ struct point_kernel {
         return hits;
     }
 
-    /// For a sweep that meets each pair once: candidates within r with id > me. Adds one to
-    /// acc[k] for each such candidate k and returns their number.
-    std::uint32_t count_forward(const candidate_block<T, D>& b, std::uint32_t me, std::uint32_t* __restrict acc) const {
+    /// For a sweep that meets each pair once: candidates within r among the first `own`
+    /// (the point's own cell and row) those with id > me, after them all. Adds one to acc[k]
+    /// for each such candidate k and returns their number.
+    std::uint32_t count_forward(const candidate_block<T, D>& b, std::uint32_t me, std::uint32_t own,
+                                std::uint32_t* __restrict acc) const {
         const T* c[D];
         for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
         const std::uint32_t* __restrict block_ids = b.id.data();
@@ -168,15 +180,15 @@ struct point_kernel {
         std::uint32_t n = 0;
 #if FRNN_SWEEP_BYTES == 64
         for (std::uint32_t k = 0; k < padded; k += L::n) {
-            const std::uint32_t m0 = L::le_bits(d2(c, k), limit);
+            std::uint32_t m0 = L::le_bits(d2(c, k), limit);
+            if (k < own) m0 &= (k + L::n <= own ? 0u : ~0u << (own - k)) | later_ids(block_ids + k, me);
             if constexpr (sizeof(T) == 4) {
-                const __mmask16 m = __mmask16(m0) & _mm512_cmpgt_epu32_mask(_mm512_loadu_si512(block_ids + k), _mm512_set1_epi32(int(me)));
+                const __mmask16 m = __mmask16(m0);
                 const __m512i a = _mm512_loadu_si512(acc + k);
                 _mm512_storeu_si512(acc + k, _mm512_mask_sub_epi32(a, m, a, _mm512_set1_epi32(-1)));
                 n += std::uint32_t(__builtin_popcount(m));
             } else {
-                const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block_ids + k));
-                const __mmask8 m = __mmask8(m0) & _mm256_cmpgt_epu32_mask(ids, _mm256_set1_epi32(int(me)));
+                const __mmask8 m = __mmask8(m0);
                 const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(acc + k));
                 _mm256_storeu_si256(reinterpret_cast<__m256i*>(acc + k), _mm256_mask_sub_epi32(a, m, a, _mm256_set1_epi32(-1)));
                 n += std::uint32_t(__builtin_popcount(m));
@@ -186,7 +198,7 @@ struct point_kernel {
         for (std::uint32_t k = 0; k < padded; k += L::n) {
             for (std::uint32_t m = L::le_bits(d2(c, k), limit); m; m &= m - 1) {
                 const std::uint32_t j = k + std::uint32_t(__builtin_ctz(m));
-                if (block_ids[j] > me) ++acc[j], ++n;
+                if (j >= own || block_ids[j] > me) ++acc[j], ++n;
             }
         }
 #endif
@@ -357,20 +369,33 @@ struct sweeper {
     /// sweeps of neighboring slabs one after the other.
     void count_pairs(std::size_t b, std::size_t e) {
         std::vector<std::uint32_t> acc;
+        std::uint32_t* partners = job.partner_counts ? job.partner_counts : job.counts;
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             const std::size_t nruns = g.forward_runs(cell, runs, width);
             block.gather(g, runs, nruns, nullptr);
             grow(acc, block.padded);
             std::fill(acc.begin(), acc.begin() + block.padded, 0u);
+            // The first run holds the group's own cell: its points are ordered by id.
+            std::uint32_t own = 0;
+            if (nruns > 0 && !runs[0].filter) own = runs[0].end - runs[0].begin;
+            for (std::uint32_t j = runs[0].begin; nruns > 0 && runs[0].filter && j < runs[0].end; ++j)
+                own += g.hashed_point_in_cell(j, runs[0].cell);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                job.counts[s] += point_kernel<T, D>(x.data(), r2).count_forward(block, s, acc.data());
+                job.counts[s] += point_kernel<T, D>(x.data(), r2).count_forward(block, s, own, acc.data());
             }
-            // The block holds the runs one after the other: add back run by run.
+            // The block holds the runs one after the other: add back run by run (of a shared
+            // hash slot, only the points of the run's cell are in the block).
             const std::uint32_t* src = acc.data();
             for (std::size_t k = 0; k < nruns; ++k) {
-                std::uint32_t* __restrict dst = job.counts + runs[k].begin;
-                const std::uint32_t len = runs[k].end - runs[k].begin;
+                const candidate_run& run = runs[k];
+                if (run.filter) {
+                    for (std::uint32_t j = run.begin; j < run.end; ++j)
+                        if (g.hashed_point_in_cell(j, run.cell)) partners[j] += *src++;
+                    continue;
+                }
+                std::uint32_t* __restrict dst = partners + run.begin;
+                const std::uint32_t len = run.end - run.begin;
                 for (std::uint32_t j = 0; j < len; ++j) dst[j] += src[j];
                 src += len;
             }
