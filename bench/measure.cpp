@@ -1,6 +1,9 @@
 #include "frnn/bench/measure.hpp"
 
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <fstream>
 #include <sstream>
@@ -17,6 +20,9 @@ double median(std::vector<double> values) {
 }
 
 bool reset_peak_rss() {
+#if defined(__GLIBC__)
+    malloc_trim(0);  // give back what earlier methods freed, so it does not count for this one
+#endif
     std::ofstream refs("/proc/self/clear_refs");
     if (!refs) return false;
     refs << "5";  // 5: reset the peak RSS (VmHWM) to the current RSS

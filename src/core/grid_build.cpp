@@ -378,8 +378,6 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     offsets_.assign(slots_ + 1, 0);
     thread_counts_.assign(parts * slots_, 0);
 
-    // 1. Insert: per-chunk counts of every cell, and how many points fall in the cell of the
-    // point before them or the next one (input already in cell order, or nearly).
     // Calls f(i, slot of i) for the input points [b, e). Slots are computed in batches, in
     // both passes, rather than stored: that is cheaper than writing and reading them back.
     auto for_each_slot = [&](std::size_t b, std::size_t e, auto&& f) {
@@ -391,6 +389,8 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
             for (std::size_t k = 0; k < m; ++k) f(i0 + k, slot[k]);
         }
     };
+    // 1. Insert: per-chunk counts of every cell, and how many points fall in the cell of the
+    // point before them or the next one (input already in cell order, or nearly).
     std::vector<std::size_t> local(parts, 0);
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         std::uint32_t* counts = thread_counts_.data() + c * slots_;

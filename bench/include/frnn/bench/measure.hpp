@@ -56,8 +56,9 @@ measurement measure(int repeat, F&& once) {
     return m;
 }
 
-/// Resets the process's peak RSS to its current RSS (Linux /proc/self/clear_refs); false when
-/// the kernel refuses, in which case peak_rss_bytes() is the peak since the process started.
+/// Returns freed heap memory to the system (glibc), then resets the process's peak RSS to its
+/// current RSS (Linux /proc/self/clear_refs); false when the kernel refuses, in which case
+/// peak_rss_bytes() is the peak since the process started.
 bool reset_peak_rss();
 /// Peak resident set size: VmHWM of /proc/self/status, else getrusage's ru_maxrss.
 std::size_t peak_rss_bytes();
