@@ -33,13 +33,16 @@
 namespace frnn {
 
 namespace detail {
-/// A run [begin, end) of sorted points to test. `filter` marks a run from a hash slot shared by
-/// several cells: its candidates must also lie in cell `cell`.
+/// A run [begin, end) of sorted points to test: the points of one or more whole cells.
 struct candidate_run {
     std::uint32_t begin, end;
-    bool filter;
-    std::array<std::int64_t, 3> cell;
 };
+/// Appends run [b, e) to out[0, n), merging it into the last run when they touch.
+inline void append_run(candidate_run* out, std::size_t& n, std::uint32_t b, std::uint32_t e) {
+    if (b == e) return;
+    if (n > 0 && out[n - 1].end == b) out[n - 1].end = e;
+    else out[n++] = {b, e};
+}
 /// Upper bound of runs around one point: (2k+1)^d with k <= 4.
 inline constexpr std::size_t max_runs = 729;
 /// Extra values after the last sorted coordinate, so vector loads never leave the array.
@@ -213,7 +216,6 @@ private:
         for (std::size_t k = 0; k < n; ++k) {
             const auto& run = runs[k];
             for (std::uint32_t j = run.begin; j < run.end; ++j) {
-                if (run.filter && cell_of(sorted_point(j)) != run.cell) continue;
                 const T d2 = distance_squared_sorted(x, j);
                 if (d2 <= r2) f(j, d2);
             }
@@ -230,10 +232,13 @@ private:
     /// Slots of the input points [b, e) of `coords` into out[0, e - b).
     void input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const;
     void mark_mixed_slots();
+    bool cells_sorted(std::uint32_t begin, std::uint32_t end) const;
     void group_cells(std::uint32_t begin, std::uint32_t end);
     std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
-    std::size_t hashed_row_runs(std::int64_t y, std::int64_t z, std::int64_t x0, std::int64_t x1,
-                                detail::candidate_run* out, std::size_t n) const;
+    /// Hashed grid: the sorted points [first, second) of a cell (an empty range if it has none).
+    std::pair<std::uint32_t, std::uint32_t> hashed_cell_points(const std::array<std::int64_t, 3>& cell) const;
+    /// Hashed grid: the runs of the stencil of a cell, or of its forward half.
+    std::size_t hashed_runs(const std::array<std::int64_t, 3>& cell, bool forward, detail::candidate_run* out) const;
 
     // Configuration.
     grid_options options_;

@@ -458,8 +458,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     mark_mixed_slots();
 }
 
-// Orders the points of a hash slot shared by several cells by cell (stable), so that each
-// cell's points are contiguous and share one candidate block in the sweeps.
+// Orders the points of a hash slot shared by several cells by cell (stable).
 template <class T, int D>
 void grid<T, D>::group_cells(std::uint32_t b, std::uint32_t e) {
     // (cell, old position - b), sorted by cell; then both arrays are rewritten in that order.
@@ -476,8 +475,21 @@ void grid<T, D>::group_cells(std::uint32_t b, std::uint32_t e) {
     }
 }
 
-// Counts non-empty cells; in the hashed grid, also flags slots shared by several cells so
-// that queries check cell coordinates there.
+// Whether the points [b, e) of a hash slot are ordered by cell already (input in cell order).
+template <class T, int D>
+bool grid<T, D>::cells_sorted(std::uint32_t b, std::uint32_t e) const {
+    auto cell = cell_of(sorted_point(b));
+    for (std::uint32_t j = b + 1; j < e; ++j) {
+        if (hashed_point_in_cell(j, cell)) continue;
+        const auto next = cell_of(sorted_point(j));
+        if (next < cell) return false;
+        cell = next;
+    }
+    return true;
+}
+
+// Counts non-empty cells; in the hashed grid, also flags slots shared by several cells and
+// orders their points by cell, so that a cell is always one run of points, found by binary search.
 template <class T, int D>
 void grid<T, D>::mark_mixed_slots() {
     const int threads = detail::resolve_threads(options_.threads);
@@ -491,15 +503,22 @@ void grid<T, D>::mark_mixed_slots() {
         for (std::size_t s = wb * 64; s < std::min(we * 64, slots_); ++s) {
             const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
             if (b == e) continue;
-            ++count;
-            if (!hashed) continue;
+            if (!hashed) {
+                ++count;
+                continue;
+            }
             const auto first = cell_of(sorted_point(b));
-            for (std::uint32_t j = b + 1; j < e; ++j) {
-                if (!hashed_point_in_cell(j, first)) {
-                    mixed_[s / 64] |= std::uint64_t(1) << (s % 64);
-                    group_cells(b, e);
-                    break;
-                }
+            std::uint32_t j = b + 1;
+            while (j < e && hashed_point_in_cell(j, first)) ++j;
+            if (j == e) {
+                ++count;
+                continue;
+            }
+            mixed_[s / 64] |= std::uint64_t(1) << (s % 64);
+            if (!cells_sorted(b, e)) group_cells(b, e);
+            for (j = b; j < e; ++count) {  // one piece per cell now
+                const auto cell = cell_of(sorted_point(j));
+                while (j < e && hashed_point_in_cell(j, cell)) ++j;
             }
         }
         nonempty[c] = count;
@@ -513,15 +532,7 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
                                      std::int64_t width) const {
     std::size_t n = 0;
     const int k = reach_;
-    // Appends a run, merging it with the previous one when they touch.
-    auto add = [&](std::uint32_t b, std::uint32_t e) {
-        if (b == e) return;
-        if (n > 0 && !out[n - 1].filter && out[n - 1].end == b) {
-            out[n - 1].end = e;
-        } else {
-            out[n++] = {b, e, false, {}};
-        }
-    };
+    auto add = [&](std::uint32_t b, std::uint32_t e) { detail::append_run(out, n, b, e); };
     const int zr = D == 3 ? k : 0;
     if (kind_ == grid_kind::uniform && !periodic_) {
         const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
@@ -562,31 +573,57 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
             }
         return n;
     }
-    for (int dz = -zr; dz <= zr; ++dz)
-        for (int dy = -k; dy <= k; ++dy) n = hashed_row_runs(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k, out, n);
+    return hashed_runs(c, false, out);
+}
+
+// The rows of cells of the stencil (or its forward half: the row of `c` from `c` on first)
+// through the table: consecutive x cells are consecutive slots.
+template <class T, int D>
+std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool forward,
+                                    detail::candidate_run* out) const {
+    std::size_t n = 0;
+    auto row = [&](std::int64_t y, std::int64_t z, std::int64_t x0, std::int64_t x1) {
+        for (std::int64_t x = x0; x <= x1; ++x) {
+            const auto [b, e] = hashed_cell_points({x, y, z});
+            detail::append_run(out, n, b, e);
+        }
+    };
+    const int k = reach_;
+    const int zr = D == 3 ? k : 0;
+    if (!forward) {
+        for (int dz = -zr; dz <= zr; ++dz)
+            for (int dy = -k; dy <= k; ++dy) row(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k);
+        return n;
+    }
+    row(c[1], c[2], c[0], c[0] + k);
+    for (int dy = 1; dy <= k; ++dy) row(c[1] + dy, c[2], c[0] - k, c[0] + k);
+    for (int dz = 1; dz <= zr; ++dz)
+        for (int dy = -k; dy <= k; ++dy) row(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k);
     return n;
 }
 
-// Appends the runs of the hashed grid's cells x0..x1 of row (y, z) to out[0, n): consecutive x
-// cells are consecutive slots; each slot's owner cell is verified.
 template <class T, int D>
-std::size_t grid<T, D>::hashed_row_runs(std::int64_t y, std::int64_t z, std::int64_t x0, std::int64_t x1,
-                                        detail::candidate_run* out, std::size_t n) const {
-    const std::uint64_t mask = slots_ - 1;
-    const std::uint64_t h = detail::row_hash(y, z);
-    for (std::int64_t x = x0; x <= x1; ++x) {
-        const std::array<std::int64_t, 3> cell{x, y, z};
-        const std::size_t s = (h + std::uint64_t(x)) & mask;
-        const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
-        if (b == e) continue;
-        if (mixed_[s / 64] >> (s % 64) & 1) {
-            out[n++] = {b, e, true, cell};
-        } else if (hashed_point_in_cell(b, cell)) {
-            if (n > 0 && !out[n - 1].filter && out[n - 1].end == b) out[n - 1].end = e;  // touching: merge
-            else out[n++] = {b, e, false, {}};
-        }
+std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std::array<std::int64_t, 3>& cell) const {
+    const std::size_t s = (detail::row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & (slots_ - 1);
+    std::uint32_t b = offsets_[s], e = offsets_[s + 1];
+    if (b == e) return {b, b};
+    if (mixed_[s / 64] >> (s % 64) & 1) {
+        // A shared slot holds its cells one after the other, ordered by cell coordinates
+        // (mark_mixed_slots): two binary searches find the cell's points.
+        auto first_failing = [](std::uint32_t lo, std::uint32_t hi, auto&& pred) {
+            while (lo < hi) {
+                const std::uint32_t mid = lo + (hi - lo) / 2;
+                if (pred(mid)) lo = mid + 1;
+                else hi = mid;
+            }
+            return lo;
+        };
+        b = first_failing(b, e, [&](std::uint32_t j) { return cell_of(sorted_point(j)) < cell; });
+        if (b == e || !hashed_point_in_cell(b, cell)) return {b, b};
+        return {b, first_failing(b + 1, e, [&](std::uint32_t j) { return hashed_point_in_cell(j, cell); })};
     }
-    return n;
+    if (!hashed_point_in_cell(b, cell)) return {b, b};
+    return {b, e};
 }
 
 template <class T, int D>
@@ -594,21 +631,14 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
                                      std::int64_t width) const {
     const int k = reach_;
     std::size_t n = 0;
-    if (kind_ == grid_kind::hashed) {  // the same cells, found through the table
-        n = hashed_row_runs(c[1], c[2], c[0], c[0] + k, out, n);
-        for (int dy = 1; dy <= k; ++dy) n = hashed_row_runs(c[1] + dy, c[2], c[0] - k, c[0] + k, out, n);
-        if constexpr (D == 3) {
-            for (int dz = 1; dz <= k; ++dz)
-                for (int dy = -k; dy <= k; ++dy) n = hashed_row_runs(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k, out, n);
-        }
-        return n;
-    }
+    if (kind_ == grid_kind::hashed)  // the same cells, found through the table
+        return hashed_runs(c, true, out);
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
     const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
     auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {
         const std::int64_t row = (z * dims_[1] + y) * dims_[0];
         const std::uint32_t b = offsets_[row + from], e = offsets_[row + x1 + 1];
-        if (b < e) out[n++] = {b, e, false, {}};
+        if (b < e) out[n++] = {b, e};
     };
     add_row(c[1], c[2], c[0]);  // own cell onwards
     for (int dy = 1; dy <= k && c[1] + dy < dims_[1]; ++dy) add_row(c[1] + dy, c[2], x0);

@@ -61,13 +61,12 @@ struct distance_kernel {
     }
 
     /// Calls hit(j, d2) for every point j >= first of the run within r of x, in increasing j.
-    /// Open-boundary runs of one cell use the SIMD kernel; periodic runs and runs of shared hash
-    /// slots (whose candidates outside the run's cell are dropped) take the general path.
+    /// Open-boundary runs use the SIMD kernel; periodic runs take the general path.
     static constexpr std::uint32_t block_size = 64;
     template <bool Periodic, class Hit>
     void run_hits(const std::array<T, D>& x, const detail::candidate_run& run, std::uint32_t first, Hit&& hit) const {
         const std::uint32_t begin = std::max(run.begin, first);
-        if (!Periodic && !run.filter) {
+        if (!Periodic) {
             detail::hits_in_run<T, D>(p, x.data(), begin, run.end, r2, hit);
             return;
         }
@@ -75,10 +74,6 @@ struct distance_kernel {
         for (std::uint32_t b = begin; b < run.end; b += block_size) {
             const std::uint32_t len = std::min(block_size, run.end - b);
             d2_block<Periodic>(x, b, len, buf);
-            if (run.filter) {
-                for (std::uint32_t m = 0; m < len; ++m)
-                    if (!g.hashed_point_in_cell(b + m, run.cell)) buf[m] = T(INFINITY);
-            }
             for (std::uint64_t m = detail::le_mask(buf, len, r2); m; m &= m - 1) {
                 const std::uint32_t k = std::uint32_t(std::countr_zero(m));
                 hit(b + k, buf[k]);
@@ -90,7 +85,7 @@ struct distance_kernel {
     std::uint32_t count(const std::array<T, D>& x, const detail::candidate_run* runs, std::size_t n) const {
         std::uint32_t c = 0;
         for (std::size_t k = 0; k < n; ++k) {
-            if (!Periodic && !runs[k].filter) {
+            if (!Periodic) {
                 c += detail::count_run<T, D>(p, x.data(), runs[k].begin, runs[k].end, r2);
             } else {
                 run_hits<Periodic>(x, runs[k], 0, [&](std::uint32_t, T) { ++c; });

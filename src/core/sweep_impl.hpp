@@ -62,21 +62,11 @@ struct candidate_block {
         std::uint32_t* __restrict dst_id = id.data();
         std::uint32_t m = 0;
         for (std::size_t k = 0; k < nruns; ++k) {
-            const candidate_run& run = runs[k];
-            if (!run.filter) {
-                const std::uint32_t len = run.end - run.begin;
-                for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + run.begin, len);
-                if (ids) copy_ids(dst_id + m, ids + run.begin, len);
-                else count_up(dst_id + m, run.begin, len);
-                m += len;
-                continue;
-            }
-            // A hash slot shared by several cells: keep the points of the run's cell only.
-            for (std::uint32_t j = run.begin; j < run.end; ++j) {
-                if (!g.hashed_point_in_cell(j, run.cell)) continue;
-                for (int a = 0; a < D; ++a) dst[a][m] = g.sorted_coord(j, a);
-                dst_id[m++] = ids ? ids[j] : j;
-            }
+            const std::uint32_t len = runs[k].end - runs[k].begin;
+            for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + runs[k].begin, len);
+            if (ids) copy_ids(dst_id + m, ids + runs[k].begin, len);
+            else count_up(dst_id + m, runs[k].begin, len);
+            m += len;
         }
         size = m;
         padded = (m + block_multiple - 1) / block_multiple * block_multiple;
@@ -376,24 +366,15 @@ struct sweeper {
             grow(acc, block.padded);
             std::fill(acc.begin(), acc.begin() + block.padded, 0u);
             // The first run holds the group's own cell: its points are ordered by id.
-            std::uint32_t own = 0;
-            if (nruns > 0 && !runs[0].filter) own = runs[0].end - runs[0].begin;
-            for (std::uint32_t j = runs[0].begin; nruns > 0 && runs[0].filter && j < runs[0].end; ++j)
-                own += g.hashed_point_in_cell(j, runs[0].cell);
+            const std::uint32_t own = nruns > 0 ? runs[0].end - runs[0].begin : 0;
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
                 job.counts[s] += point_kernel<T, D>(x.data(), r2).count_forward(block, s, own, acc.data());
             }
-            // The block holds the runs one after the other: add back run by run (of a shared
-            // hash slot, only the points of the run's cell are in the block).
+            // The block holds the runs one after the other: add back run by run.
             const std::uint32_t* src = acc.data();
             for (std::size_t k = 0; k < nruns; ++k) {
                 const candidate_run& run = runs[k];
-                if (run.filter) {
-                    for (std::uint32_t j = run.begin; j < run.end; ++j)
-                        if (g.hashed_point_in_cell(j, run.cell)) partners[j] += *src++;
-                    continue;
-                }
                 std::uint32_t* __restrict dst = partners + run.begin;
                 const std::uint32_t len = run.end - run.begin;
                 for (std::uint32_t j = 0; j < len; ++j) dst[j] += src[j];

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "frnn/frnn.hpp"
 
@@ -51,6 +52,32 @@ TEST(grid_basics, one_far_outlier_picks_the_hashed_grid) {
     frnn::list_options lo;
     lo.order = frnn::row_order::index;
     EXPECT_EQ(g.neighbor_lists(lo).indices, ref.indices);
+}
+
+// 3000 points in a box of 125,000 cells of 0.2, nearly all in cells of their own: the hashed
+// grid's table of 4096 slots holds several cells in many of its slots.
+TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_shared_slots) {
+    const auto p = random_points(3000, 3, 10.0, 11);
+    frnn::grid_options o;
+    o.kind = frnn::grid_kind::hashed;
+    o.cell_size = 0.2;
+    frnn::grid<double, 3> g(p, 0.8, o);
+    std::set<std::array<std::int64_t, 3>> cells;
+    for (std::size_t i = 0; i < 3000; ++i) cells.insert(g.cell_of({p[3 * i], p[3 * i + 1], p[3 * i + 2]}));
+    const auto starts = g.cell_starts();
+    std::size_t occupied = 0;
+    for (std::size_t s = 0; s + 1 < starts.size(); ++s) occupied += starts[s + 1] > starts[s];
+    ASSERT_LT(occupied + 500, cells.size());  // many slots are shared
+    EXPECT_EQ(g.nonempty_cells(), cells.size());
+    const auto ref = frnn::brute_force_lists<double, 3>(p, p, 0.8, true);
+    frnn::list_options lo;
+    lo.order = frnn::row_order::index;
+    EXPECT_EQ(g.neighbor_lists(lo).indices, ref.indices);
+    lo.half = true;
+    EXPECT_EQ(g.neighbor_lists(lo).size() * 2, ref.size());
+    std::vector<std::uint32_t> sizes(3000);
+    for (std::size_t i = 0; i < 3000; ++i) sizes[i] = std::uint32_t(ref.offsets[i + 1] - ref.offsets[i]);
+    EXPECT_EQ(g.count_neighbors(), sizes);
 }
 
 TEST(grid_basics, nan_is_rejected_with_its_index) {
