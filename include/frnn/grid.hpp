@@ -175,6 +175,8 @@ public:
     /// order). `width` as for stencil_runs, uniform grid only.
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1) const;
+    /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).
+    bool points_inside_box() const { return inside_box_; }
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
     /// x + nx * (y + ny * z). Slot c holds the sorted points [cell_starts()[c], cell_starts()[c + 1]).
     std::array<std::int64_t, 3> cells_per_axis() const { return dims_; }
@@ -245,6 +247,7 @@ private:
     T radius_ = 0;
     grid_kind kind_ = grid_kind::uniform;
     bool periodic_ = false;
+    bool inside_box_ = false;           // periodic: all points in [0, L) per axis
     int reach_ = 1;
     std::array<double, 3> origin_{};    // lower corner of cell (0,0,0)
     std::array<double, 3> cell_{};      // effective cell edge per axis

@@ -212,6 +212,7 @@ void grid<T, D>::configure(std::span<const T> coords) {
     }
 
     periodic_ = !o.periodic.empty();
+    inside_box_ = periodic_;
     dims_ = {1, 1, 1};
     if (periodic_) {
         if (o.periodic.size() != std::size_t(D))
@@ -226,6 +227,7 @@ void grid<T, D>::configure(std::span<const T> coords) {
             if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
                 throw error("a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
             box_[a] = T(box);
+            inside_box_ = inside_box_ && lo[a] >= 0 && hi[a] < double(box_[a]);
             dims_[a] = std::max<std::int64_t>(1, std::int64_t(box / cell));
             cells *= double(dims_[a]);
         }

@@ -252,8 +252,8 @@ struct query_engine {
         });
     }
 
-    /// Whether the cell sweep (sweep.hpp) serves a query: the grid's own points, open boundaries.
-    bool sweeps(bool from_queries) const { return !from_queries && !g.periodic(); }
+    /// Whether the cell sweep (sweep.hpp) serves a query: the grid's own points.
+    bool sweeps(bool from_queries) const { return !from_queries; }
 
     std::vector<std::uint32_t> counts(std::span<const T> queries, bool from_queries, bool self) const {
         const std::size_t rows = from_queries ? queries.size() / D : g.size();
@@ -347,6 +347,12 @@ struct query_engine {
         sweep_job<T> job;
         job.self = self;
         job.counts = counts;
+        if (g.periodic()) {
+            // The forward half-stencil needs open boundaries: a periodic box counts per point.
+            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
+                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+            return;
+        }
         const std::uint32_t start = self ? 1 : 0;
         std::fill(counts, counts + rows, start);
         if (g.kind() != grid_kind::uniform) {

@@ -89,6 +89,22 @@ struct lanes_of {
         return v;
     }
     static vec splat(T x) { return vec{} + x; }
+    /// Each lane rounded to the nearest integer, ties to even: std::nearbyint in the default
+    /// rounding mode, which the other query paths use for the minimum image.
+    static vec round_even(vec a) {
+#if FRNN_SWEEP_BYTES == 64
+        constexpr int mode = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
+        if constexpr (sizeof(T) == 4) return reinterpret_cast<vec>(_mm512_roundscale_ps(reinterpret_cast<__m512>(a), mode));
+        else return reinterpret_cast<vec>(_mm512_roundscale_pd(reinterpret_cast<__m512d>(a), mode));
+#elif FRNN_SWEEP_BYTES == 32
+        constexpr int mode = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
+        if constexpr (sizeof(T) == 4) return reinterpret_cast<vec>(_mm256_round_ps(reinterpret_cast<__m256>(a), mode));
+        else return reinterpret_cast<vec>(_mm256_round_pd(reinterpret_cast<__m256d>(a), mode));
+#else
+        for (int l = 0; l < n; ++l) a[l] = std::nearbyint(a[l]);
+        return a;
+#endif
+    }
     /// Bit l set when a[l] <= b[l].
     static std::uint32_t le_bits(vec a, vec b) {
 #if FRNN_SWEEP_BYTES == 64
@@ -114,25 +130,40 @@ struct lanes_of {
     }
 };
 
-/// One point against a candidate block.
-template <class T, int D>
+/// One point against a candidate block; in a periodic box (box lengths `box`) by the minimum
+/// image, d -= box * nearbyint(d / box) per axis, as grid::distance_squared_sorted computes it,
+/// unless `wrap` is false: the caller knows that every such correction is zero.
+template <class T, int D, bool Periodic>
 struct point_kernel {
     using L = lanes_of<T>;
     using vec = typename L::vec;
     vec x[D];
+    vec box[D];
     vec limit;
+    bool wrap;
 
-    point_kernel(const T* point, T r2) : limit(L::splat(r2)) {
+    point_kernel(const T* point, T r2, const T* box_lengths, bool wrap_images)
+        : limit(L::splat(r2)), wrap(Periodic && wrap_images) {
         for (int a = 0; a < D; ++a) x[a] = L::splat(point[a]);
+        for (int a = 0; a < D; ++a) box[a] = L::splat(box_lengths[a]);
+    }
+
+    vec delta(const T* const* c, std::uint32_t k, int a) const {
+        vec d = L::load(c[a] + k) - x[a];
+        // Padding lanes (+infinity) become NaN here, which fails every comparison.
+        if constexpr (Periodic) {
+            if (wrap) d -= box[a] * L::round_even(d / box[a]);
+        }
+        return d;
     }
 
     vec d2(const T* const* c, std::uint32_t k) const {
-        const vec dx = L::load(c[0] + k) - x[0];
-        const vec dy = L::load(c[1] + k) - x[1];
+        const vec dx = delta(c, k, 0);
+        const vec dy = delta(c, k, 1);
         vec d = dx * dx;
         d += dy * dy;
         if constexpr (D == 3) {
-            const vec dz = L::load(c[D - 1] + k) - x[D - 1];
+            const vec dz = delta(c, k, D - 1);
             d += dz * dz;
         }
         return d;
@@ -310,17 +341,23 @@ void row_filter(const sweep_job<T>& job, std::uint32_t me, std::uint32_t& lo, st
     skip = job.half || job.self ? no_id : me;
 }
 
-template <class T, int D>
+/// The sweeps over the cells of a grid; `Periodic` for a periodic box.
+template <class T, int D, bool Periodic>
 struct sweeper {
+    using kernel = point_kernel<T, D, Periodic>;
     const grid<T, D>& g;
     const sweep_job<T>& job;
+    T box[D] = {};
     candidate_block<T, D> block;
     candidate_run runs[max_runs];
     T r2;
     std::int64_t group_width;
 
     sweeper(const grid<T, D>& gr, const sweep_job<T>& j)
-        : g(gr), job(j), r2(gr.radius() * gr.radius()), group_width(group_width_for(gr)) {}
+        : g(gr), job(j), r2(gr.radius() * gr.radius()), group_width(group_width_for(gr)) {
+        if constexpr (Periodic)
+            for (int a = 0; a < D; ++a) box[a] = T(gr.options().periodic[a]);
+    }
 
     std::array<T, D> point(std::uint32_t s) const {
         std::array<T, D> x;
@@ -329,6 +366,20 @@ struct sweeper {
     }
     std::uint32_t id(std::uint32_t s) const { return job.ids ? job.ids[s] : s; }
 
+    /// Periodic box: whether the minimum image may differ from the plain difference for a
+    /// point of `cell` and a candidate of its stencil. It cannot when every point lies inside
+    /// the box, the stencil does not wrap, and the box spans at least 2k + 3 cells: then
+    /// |d| < (k + 1) cells < box / 2 on every axis, so nearbyint(d / box) = 0.
+    bool wraps(const std::array<std::int64_t, 3>& cell) const {
+        if constexpr (!Periodic) return false;
+        if (!g.points_inside_box()) return true;
+        const auto dims = g.cells_per_axis();
+        const int k = g.reach();
+        for (int a = 0; a < D; ++a)
+            if (dims[a] < 2 * k + 3 || cell[a] < k || cell[a] + k >= dims[a]) return true;
+        return false;
+    }
+
     void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width) {
         block.gather(g, runs, g.stencil_runs(cell, runs, width), job.ids);
     }
@@ -336,9 +387,10 @@ struct sweeper {
     void count(std::size_t b, std::size_t e) {
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
+            const bool wrap = wraps(cell);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                const point_kernel<T, D> kern(x.data(), r2);
+                const kernel kern(x.data(), r2, box, wrap);
                 std::uint32_t c;
                 if (job.half) {
                     std::uint32_t lo, skip;
@@ -369,7 +421,7 @@ struct sweeper {
             const std::uint32_t own = nruns > 0 ? runs[0].end - runs[0].begin : 0;
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                job.counts[s] += point_kernel<T, D>(x.data(), r2).count_forward(block, s, own, acc.data());
+                job.counts[s] += kernel(x.data(), r2, box, false).count_forward(block, s, own, acc.data());
             }
             // The block holds the runs one after the other: add back run by run.
             const std::uint32_t* src = acc.data();
@@ -391,10 +443,11 @@ struct sweeper {
         std::vector<std::pair<T, std::uint32_t>> pairs;
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
+            const bool wrap = wraps(cell);
             if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                const point_kernel<T, D> kern(x.data(), r2);
+                const kernel kern(x.data(), r2, box, wrap);
                 std::uint32_t lo, skip;
                 row_filter(job, id(s), lo, skip);
                 const std::uint64_t dst = job.offsets[id(s)];
@@ -441,17 +494,19 @@ struct sweeper {
 
 template <class T, int D>
 void count(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    sweeper<T, D>(g, job).count(b, e);
+    if (g.periodic()) sweeper<T, D, true>(g, job).count(b, e);
+    else sweeper<T, D, false>(g, job).count(b, e);
 }
 
 template <class T, int D>
 void count_pairs(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    sweeper<T, D>(g, job).count_pairs(b, e);
+    sweeper<T, D, false>(g, job).count_pairs(b, e);
 }
 
 template <class T, int D>
 void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    sweeper<T, D>(g, job).fill(b, e);
+    if (g.periodic()) sweeper<T, D, true>(g, job).fill(b, e);
+    else sweeper<T, D, false>(g, job).fill(b, e);
 }
 
 template <class T, int D>
