@@ -33,6 +33,12 @@ struct sweep_job {
     const std::uint64_t* offsets = nullptr;   ///< fill sweep: row starts by output row
     std::uint32_t* indices = nullptr;
     T* distances = nullptr;                   ///< null: not wanted
+
+    /// Query sweeps: points of another set (interleaved coordinates) instead of the grid's
+    /// own, swept in `query_order` (query indices grouped by cell, see query_engine). Rows and
+    /// counts are then by query index; sweep ranges [b, e) are positions in query_order.
+    const T* queries = nullptr;
+    const std::uint32_t* query_order = nullptr;
 };
 
 /// Uniform grid with open boundaries: cell (x, y, z) of a point holds
@@ -51,7 +57,7 @@ struct hashed_frame {
 
 template <class T, int D>
 struct sweep_kernels {
-    /// Row sizes of the sorted points [b, e) into job.counts.
+    /// Row sizes of the sorted points [b, e) into job.counts (or of the queries, see sweep_job).
     void (*count)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Open boundaries: adds to job.counts (zero before the first sweep) the neighbors of
     /// all points, meeting each pair once from the cells of [b, e): the points of [b, e)
@@ -59,7 +65,7 @@ struct sweep_kernels {
     /// job.partner_counts (or job.counts). On the uniform grid those lie up to `reach` cell
     /// layers after e, so sweeps of adjacent slabs of layers must not share one array then.
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// Rows of the sorted points [b, e), at job.offsets of their output rows.
+    /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Not a sweep, but vector code of the build: the slots of the input points [b, e) of
     /// `coords` (interleaved) into out[0, e - b).

@@ -94,8 +94,11 @@ struct lanes_of {
     static vec round_even(vec a) {
 #if FRNN_SWEEP_BYTES == 64
         constexpr int mode = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
-        if constexpr (sizeof(T) == 4) return reinterpret_cast<vec>(_mm512_roundscale_ps(reinterpret_cast<__m512>(a), mode));
-        else return reinterpret_cast<vec>(_mm512_roundscale_pd(reinterpret_cast<__m512d>(a), mode));
+        // (The masked forms: GCC 12 warns about the plain ones' undefined pass-through operand.)
+        if constexpr (sizeof(T) == 4)
+            return reinterpret_cast<vec>(_mm512_maskz_roundscale_ps(__mmask16(0xFFFF), reinterpret_cast<__m512>(a), mode));
+        else
+            return reinterpret_cast<vec>(_mm512_maskz_roundscale_pd(__mmask8(0xFF), reinterpret_cast<__m512d>(a), mode));
 #elif FRNN_SWEEP_BYTES == 32
         constexpr int mode = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
         if constexpr (sizeof(T) == 4) return reinterpret_cast<vec>(_mm256_round_ps(reinterpret_cast<__m256>(a), mode));
@@ -361,10 +364,43 @@ struct sweeper {
 
     std::array<T, D> point(std::uint32_t s) const {
         std::array<T, D> x;
-        for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+        if (job.queries) {
+            const T* q = job.queries + std::size_t(job.query_order[s]) * D;
+            for (int a = 0; a < D; ++a) x[a] = q[a];
+        } else {
+            for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+        }
         return x;
     }
-    std::uint32_t id(std::uint32_t s) const { return job.ids ? job.ids[s] : s; }
+    /// The id of point s, which is also its output row.
+    std::uint32_t id(std::uint32_t s) const {
+        if (job.queries) return job.query_order[s];
+        return job.ids ? job.ids[s] : s;
+    }
+
+    /// Calls f(begin, end, cell, width) for the groups of points of [b, e) that share one
+    /// candidate block: for_each_cell_group, or consecutive queries in one cell.
+    template <class F>
+    void for_each_group(std::size_t b, std::size_t e, F&& f) const {
+        if (!job.queries) return for_each_cell_group(g, b, e, group_width, f);
+        for (std::size_t s = b; s < e;) {
+            const auto cell = g.cell_of(point(std::uint32_t(s)));
+            std::size_t end = s + 1;
+            while (end < e && g.cell_of(point(std::uint32_t(end))) == cell) ++end;
+            f(std::uint32_t(s), std::uint32_t(end), cell, std::int64_t(1));
+            s = end;
+        }
+    }
+
+    /// Whether point x needs the minimum image, given wraps() of its cell: a grid point never
+    /// does when its cell does not; a query must lie inside the box as well.
+    bool wraps_at(bool group_wraps, const std::array<T, D>& x) const {
+        if constexpr (!Periodic) return false;
+        if (group_wraps || !job.queries) return group_wraps;
+        for (int a = 0; a < D; ++a)
+            if (!(x[a] >= T(0) && x[a] < box[a])) return true;
+        return false;
+    }
 
     /// Periodic box: whether the minimum image may differ from the plain difference for a
     /// point of `cell` and a candidate of its stencil. It cannot when every point lies inside
@@ -385,12 +421,12 @@ struct sweeper {
     }
 
     void count(std::size_t b, std::size_t e) {
-        for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+        for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
             const bool wrap = wraps(cell);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                const kernel kern(x.data(), r2, box, wrap);
+                const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 std::uint32_t c;
                 if (job.half) {
                     std::uint32_t lo, skip;
@@ -401,7 +437,7 @@ struct sweeper {
                     c = kern.count_all(block) - (job.self ? 0 : 1);
                 }
                 if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
-                job.counts[s] = c;
+                job.counts[job.queries ? id(s) : s] = c;
             }
         });
     }
@@ -441,13 +477,13 @@ struct sweeper {
         std::vector<std::uint32_t> row_ids;
         std::vector<T> row_d2;
         std::vector<std::pair<T, std::uint32_t>> pairs;
-        for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+        for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
             const bool wrap = wraps(cell);
             if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                const kernel kern(x.data(), r2, box, wrap);
+                const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 std::uint32_t lo, skip;
                 row_filter(job, id(s), lo, skip);
                 const std::uint64_t dst = job.offsets[id(s)];

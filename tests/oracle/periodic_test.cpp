@@ -130,6 +130,26 @@ TEST(OraclePeriodic, PointsOnAndOutsideTheBox) {
     outside_box_case<double, 2>({0, 0, 1e300, 0.5}, box, 1.0, "1e300 boxes away");
 }
 
+// Points inside a box large enough for stencils that never wrap, and queries whole boxes
+// away: the sweep may skip the minimum image for inside points only, never for such queries.
+TEST(OraclePeriodic, QueriesImagesAwayFromPointsInside) {
+    const std::vector<double> box = {12, 9, 10};
+    const auto pts = in_box<double, 3>(2000, box, 95);
+    std::vector<double> queries;
+    const auto near = query_points<double, 3>(pts, 1.0, 200, box, 96);
+    for (std::size_t q = 0; q < near.size() / 3; ++q)
+        for (int a = 0; a < 3; ++a) queries.push_back(near[3 * q + a] + double(int(q % 5) - 2) * box[a]);
+    for (double f : {1.0, 0.5}) {
+        grid_options opt;
+        opt.periodic = box;
+        opt.cell_size = f;
+        grid<double, 3> g(pts, 1.0, opt);
+        ASSERT_TRUE(g.points_inside_box());
+        SCOPED_TRACE("cell " + std::to_string(f));
+        check_grid<double, 3>(g, pts, 1.0, box, queries, depth_for_cell(f));
+    }
+}
+
 // Every point's number of neighbors on a periodic lattice is the same (translation invariance):
 // a physics check independent of the oracle.
 TEST(OraclePeriodic, LatticeCountsAreUniform) {
