@@ -1,6 +1,7 @@
-// Self-queries of a grid (every point against all points), swept cell by cell: the candidates
-// of a cell's stencil are gathered once into one contiguous block padded to whole vectors, and
-// every point of the cell is tested against that block. Lists take two sweeps: row sizes, then
+// Bulk queries of a grid (its own points, or query points grouped by cell, against all
+// points), swept cell by cell: the candidates of a cell's stencil are gathered once into one
+// contiguous block padded to whole vectors, and every point of the cell is tested against
+// that block, by the minimum image in a periodic box. Lists take two sweeps: row sizes, then
 // the rows written straight into the final CSR arrays, so no intermediate buffers exist and
 // each point only writes its own row: the output does not depend on the thread count.
 //
