@@ -169,10 +169,11 @@ public:
     /// many cells along x from `cell` on (which must lie in the grid).
     std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1) const;
-    /// Open boundaries only: the forward half of that stencil, the cells after `cell` in
-    /// row-major order of cell coordinates (itself included, first), so that visiting these
-    /// from every cell meets each pair of cells once (pairs inside the first run once by index
-    /// order). `width` as for stencil_runs, uniform grid only.
+    /// The forward half of that stencil: the cells after `cell` in row-major order of cell
+    /// coordinates (itself included, first), so that visiting these from every cell meets each
+    /// pair of cells once (pairs inside the first run once by index order). `width` as for
+    /// stencil_runs, uniform grid only. Periodic boxes: wrapped, and only for boxes of at least
+    /// 2 reach + 1 cells per axis (smaller ones would meet some pairs of cells twice).
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1) const;
     /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).

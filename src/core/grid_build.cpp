@@ -635,6 +635,28 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
     std::size_t n = 0;
     if (kind_ == grid_kind::hashed)  // the same cells, found through the table
         return hashed_runs(c, true, out);
+    if (periodic_) {
+        // Wrapped. With 2k + 1 cells or more on every axis (the caller's condition) the cells
+        // c + d are distinct, and of d and -d exactly one lies in the half.
+        auto wrapped = [&](int a, std::int64_t v) { return (v % dims_[a] + dims_[a]) % dims_[a]; };
+        auto add_cells = [&](std::int64_t y, std::int64_t z, std::int64_t from, std::int64_t to) {
+            const std::int64_t row = (wrapped(2, z) * dims_[1] + wrapped(1, y)) * dims_[0];
+            const std::int64_t a = wrapped(0, from), b = wrapped(0, to);
+            if (a <= b) {
+                detail::append_run(out, n, offsets_[row + a], offsets_[row + b + 1]);
+            } else {
+                detail::append_run(out, n, offsets_[row + a], offsets_[row + dims_[0]]);
+                detail::append_run(out, n, offsets_[row], offsets_[row + b + 1]);
+            }
+        };
+        add_cells(c[1], c[2], c[0], c[0] + k);  // own cell onwards
+        for (int dy = 1; dy <= k; ++dy) add_cells(c[1] + dy, c[2], c[0] - k, c[0] + k);
+        if constexpr (D == 3) {
+            for (int dz = 1; dz <= k; ++dz)
+                for (int dy = -k; dy <= k; ++dy) add_cells(c[1] + dy, c[2] + dz, c[0] - k, c[0] + k);
+        }
+        return n;
+    }
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
     const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
     auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {

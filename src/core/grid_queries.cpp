@@ -147,11 +147,17 @@ struct query_engine {
         sweep_job<T> job;
         job.self = self;
         job.counts = counts;
+        const auto dims = g.cells_per_axis();
         if (g.periodic()) {
-            // The forward half-stencil needs open boundaries: a periodic box counts per point.
-            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
-                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
-            return;
+            // The wrapped forward half-stencil meets each pair of cells once only when every
+            // axis has 2 reach + 1 cells or more; smaller boxes count per point.
+            bool fits = true;
+            for (int a = 0; a < D; ++a) fits = fits && dims[a] >= 2 * g.reach() + 1;
+            if (!fits) {
+                for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
+                               [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+                return;
+            }
         }
         const std::uint32_t start = self ? 1 : 0;
         std::fill(counts, counts + rows, start);
@@ -172,22 +178,26 @@ struct query_engine {
             });
             return;
         }
-        const auto dims = g.cells_per_axis();
         const std::size_t layers = std::size_t(dims[D - 1]);
         const std::size_t per_layer = D == 3 ? std::size_t(dims[0] * dims[1]) : std::size_t(dims[0]);
-        // Slabs at least `reach` layers thick, so that a sweep only reaches into the next slab.
+        // Slabs of at least `reach` layers (the last one takes the rest), so that a sweep only
+        // reaches into the next slab: two rounds, even slabs then odd ones. In a periodic box
+        // the last slab reaches into the first, so with an odd number it goes alone, last.
         const std::size_t want = std::max<std::size_t>(1, std::size_t(threads) * 32);
         const std::size_t thick = std::max<std::size_t>(std::size_t(g.reach()), (layers + want - 1) / want);
-        const std::size_t slabs = (layers + thick - 1) / thick;
+        const std::size_t slabs = std::max<std::size_t>(1, layers / thick);
+        const bool last_alone = g.periodic() && slabs > 1 && slabs % 2 == 1;
         const auto starts = g.cell_starts();
+        auto sweep_slab = [&](std::size_t slab) {
+            const std::size_t z0 = slab * thick, z1 = slab + 1 == slabs ? layers : z0 + thick;
+            kernels.count_pairs(g, job, starts[z0 * per_layer], starts[z1 * per_layer]);
+        };
+        const std::size_t paired = last_alone ? slabs - 1 : slabs;
         for (std::size_t round = 0; round < 2; ++round) {
-            const std::size_t n = (slabs + 1 - round) / 2;
-            for_each_chunk(n, n, threads, [&](std::size_t c, std::size_t, std::size_t) {
-                const std::size_t slab = 2 * c + round;
-                const std::size_t z0 = slab * thick, z1 = std::min(layers, z0 + thick);
-                kernels.count_pairs(g, job, starts[z0 * per_layer], starts[z1 * per_layer]);
-            });
+            const std::size_t n = (paired + 1 - round) / 2;
+            for_each_chunk(n, n, threads, [&](std::size_t c, std::size_t, std::size_t) { sweep_slab(2 * c + round); });
         }
+        if (last_alone) sweep_slab(slabs - 1);
     }
 
     /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.

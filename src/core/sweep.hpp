@@ -60,11 +60,12 @@ template <class T, int D>
 struct sweep_kernels {
     /// Row sizes of the sorted points [b, e) into job.counts (or of the queries, see sweep_job).
     void (*count)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// Open boundaries: adds to job.counts (zero before the first sweep) the neighbors of
-    /// all points, meeting each pair once from the cells of [b, e): the points of [b, e)
+    /// Adds to job.counts (zero before the first sweep) the neighbors of all points, meeting
+    /// each pair once from the cells of [b, e) (grid::forward_runs): the points of [b, e)
     /// get their own count, the partner points found in later cells theirs in
     /// job.partner_counts (or job.counts). On the uniform grid those lie up to `reach` cell
-    /// layers after e, so sweeps of adjacent slabs of layers must not share one array then.
+    /// layers after e (in a periodic box, wrapping to the first layers), so sweeps of adjacent
+    /// slabs of layers must not share one array then.
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);

@@ -451,13 +451,14 @@ struct sweeper {
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             const std::size_t nruns = g.forward_runs(cell, runs, width);
             block.gather(g, runs, nruns, nullptr);
+            const bool wrap = wraps(cell);
             grow(acc, block.padded);
             std::fill(acc.begin(), acc.begin() + block.padded, 0u);
             // The first run holds the group's own cell: its points are ordered by id.
             const std::uint32_t own = nruns > 0 ? runs[0].end - runs[0].begin : 0;
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                job.counts[s] += kernel(x.data(), r2, box, false).count_forward(block, s, own, acc.data());
+                job.counts[s] += kernel(x.data(), r2, box, wraps_at(wrap, x)).count_forward(block, s, own, acc.data());
             }
             // The block holds the runs one after the other: add back run by run.
             const std::uint32_t* src = acc.data();
@@ -536,7 +537,8 @@ void count(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::siz
 
 template <class T, int D>
 void count_pairs(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    sweeper<T, D, false>(g, job).count_pairs(b, e);
+    if (g.periodic()) sweeper<T, D, true>(g, job).count_pairs(b, e);
+    else sweeper<T, D, false>(g, job).count_pairs(b, e);
 }
 
 template <class T, int D>
