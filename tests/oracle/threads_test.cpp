@@ -3,6 +3,8 @@
 // row_order::none. The oracle tests cover correctness; these cover determinism.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "oracle/oracle_check.hpp"
@@ -128,6 +130,20 @@ TEST(OracleThreads, PeriodicDouble2D) {
     auto pts = uniform_points<double, 2>(10000, 0, 1, 205);
     for (std::size_t i = 0; i < pts.size(); ++i) pts[i] *= opt.periodic[i % 2];
     invariance_case<double, 2>(pts, 0.4, opt, query_points<double, 2>(pts, 0.4, 2500, opt.periodic, 206));
+}
+
+// 27 layers of cells along z: an odd number of slabs, whose last one reaches into the first
+// and is swept alone; the box spans 18 x 16 x 27 cells, so interior cells skip the image.
+TEST(OracleThreads, PeriodicFloat3DOddSlabs) {
+    grid_options opt;
+    opt.periodic = {9, 8, 13.5};
+    auto pts = uniform_points<float, 3>(12000, 0, 1, 211);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const float box = float(opt.periodic[i % 3]);
+        pts[i] = std::min(pts[i] * box, std::nextafter(box, 0.0f));  // inside [0, L)
+    }
+    invariance_case<float, 3>(pts, 0.5f, opt, query_points<float, 3>(pts, 0.5, 2500, opt.periodic, 212),
+                              {grid_kind::uniform});
 }
 
 TEST(OracleThreads, OutlierFloat3D) {
