@@ -298,7 +298,7 @@ void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std:
     std::array<T, D> x;
     for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(b, a);
     auto cell = g.cell_of(x);
-    if (g.kind() == grid_kind::uniform && !g.periodic()) {
+    if (g.kind() == grid_kind::uniform) {
         // Walk the cells in order from the first point's: no cell computation per group.
         const auto starts = g.cell_starts();
         const auto dims = g.cells_per_axis();
