@@ -195,7 +195,7 @@ public:
     /// Integer cell coordinates of x (clamped to the uniform grid, wrapped when periodic).
     std::array<std::int64_t, 3> cell_of(const point& x) const;
     /// Hashed grid: whether sorted point j lies in `cell` (equals cell_of(point j) == cell, but
-    /// inline: it checks every point of hash slots shared by several cells).
+    /// inline: every cell lookup calls it, several times in slots shared by several cells).
     bool hashed_point_in_cell(std::uint32_t j, const std::array<std::int64_t, 3>& cell) const {
         for (int a = 0; a < D; ++a) {
             const double v = double(pos_[a][j]) * inv_cell_[a];

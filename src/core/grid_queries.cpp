@@ -16,8 +16,8 @@ namespace frnn {
 
 namespace {
 
-/// Leaves new elements of a resized vector uninitialized: the chunk buffers grow ahead of
-/// their writes, and zero-filling them cost as much as the writes themselves.
+/// Leaves new elements of a resized vector uninitialized: the count sweep writes every row
+/// size, and zero-filling them first would cost a pass over the array.
 template <class U>
 struct uninitialized_allocator : std::allocator<U> {
     template <class V>
