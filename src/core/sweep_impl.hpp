@@ -37,8 +37,11 @@ inline void copy_ids(std::uint32_t* __restrict dst, const std::uint32_t* __restr
 inline void count_up(std::uint32_t* __restrict dst, std::uint32_t first, std::uint32_t n) {
     constexpr std::uint32_t w = FRNN_SWEEP_BYTES / 4;
     typedef std::uint32_t uvec __attribute__((vector_size(FRNN_SWEEP_BYTES)));
+    // A constant plus a splat: GCC fills a vector lane by lane otherwise.
+    static constexpr std::uint32_t lanes[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
     uvec v;
-    for (std::uint32_t l = 0; l < w; ++l) v[l] = first + l;
+    std::memcpy(&v, lanes, sizeof v);
+    v += first;
     for (std::uint32_t j = 0; j < n; j += w, v += w) std::memcpy(dst + j, &v, FRNN_SWEEP_BYTES);
 }
 
@@ -52,7 +55,10 @@ struct candidate_block {
     std::uint32_t size = 0;
     std::uint32_t padded = 0;
 
-    void gather(const grid<T, D>& g, const candidate_run* runs, std::size_t nruns, const std::uint32_t* ids) {
+    /// Copies the runs' points in order; their ids are ids[point] or, without ids, the sorted
+    /// index, unless with_ids is false: then the id array is left as it was.
+    void gather(const grid<T, D>& g, const candidate_run* runs, std::size_t nruns, const std::uint32_t* ids,
+                bool with_ids = true) {
         std::size_t total = 0;
         for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
         for (auto& axis : c) grow(axis, total + 2 * block_multiple);
@@ -64,15 +70,19 @@ struct candidate_block {
         for (std::size_t k = 0; k < nruns; ++k) {
             const std::uint32_t len = runs[k].end - runs[k].begin;
             for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + runs[k].begin, len);
-            if (ids) copy_ids(dst_id + m, ids + runs[k].begin, len);
-            else count_up(dst_id + m, runs[k].begin, len);
+            if (!with_ids) {
+            } else if (ids) {
+                copy_ids(dst_id + m, ids + runs[k].begin, len);
+            } else {
+                count_up(dst_id + m, runs[k].begin, len);
+            }
             m += len;
         }
         size = m;
         padded = (m + block_multiple - 1) / block_multiple * block_multiple;
         for (std::uint32_t j = m; j < padded; ++j) {
             for (int a = 0; a < D; ++a) c[a][j] = T(INFINITY);
-            id[j] = no_id;
+            if (with_ids) id[j] = no_id;
         }
     }
 };
@@ -172,15 +182,6 @@ struct point_kernel {
         return d;
     }
 
-#if FRNN_SWEEP_BYTES == 64
-    /// Bit l set when ids[l] > me, for the lanes of one vector of T.
-    static std::uint32_t later_ids(const std::uint32_t* ids, std::uint32_t me) {
-        if constexpr (sizeof(T) == 4)
-            return _mm512_cmpgt_epu32_mask(_mm512_loadu_si512(ids), _mm512_set1_epi32(int(me)));
-        else
-            return _mm256_cmpgt_epu32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids)), _mm256_set1_epi32(int(me)));
-    }
-#endif
 
     /// Candidates within r, the point itself included.
     std::uint32_t count_all(const candidate_block<T, D>& b) const {
@@ -192,20 +193,21 @@ struct point_kernel {
         return hits;
     }
 
-    /// For a sweep that meets each pair once: candidates within r among the first `own`
-    /// (the point's own cell and row) those with id > me, after them all. Adds one to acc[k]
-    /// for each such candidate k and returns their number.
-    std::uint32_t count_forward(const candidate_block<T, D>& b, std::uint32_t me, std::uint32_t own,
-                                std::uint32_t* __restrict acc) const {
+    /// For a sweep that meets each pair once: the candidates within r after block position
+    /// `pos`, the point's own. (The block starts with the run of the point's own cell, so the
+    /// candidates before it are pairs counted from the other side.) Adds one to acc[k] for each
+    /// such candidate k and returns their number.
+    std::uint32_t count_forward(const candidate_block<T, D>& b, std::uint32_t pos, std::uint32_t* __restrict acc) const {
         const T* c[D];
         for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
-        const std::uint32_t* __restrict block_ids = b.id.data();
         const std::uint32_t padded = b.padded;
         std::uint32_t n = 0;
+        // Vectors wholly at or before pos hold no candidate: start at the one holding pos + 1.
+        const std::uint32_t first = (pos + 1) / L::n * L::n;
 #if FRNN_SWEEP_BYTES == 64
-        for (std::uint32_t k = 0; k < padded; k += L::n) {
+        for (std::uint32_t k = first; k < padded; k += L::n) {
             std::uint32_t m0 = L::le_bits(d2(c, k), limit);
-            if (k < own) m0 &= (k + L::n <= own ? 0u : ~0u << (own - k)) | later_ids(block_ids + k, me);
+            if (k <= pos) m0 &= ~0u << (pos - k + 1);
             if constexpr (sizeof(T) == 4) {
                 const __mmask16 m = __mmask16(m0);
                 const __m512i a = _mm512_loadu_si512(acc + k);
@@ -219,10 +221,10 @@ struct point_kernel {
             }
         }
 #else
-        for (std::uint32_t k = 0; k < padded; k += L::n) {
+        for (std::uint32_t k = first; k < padded; k += L::n) {
             for (std::uint32_t m = L::le_bits(d2(c, k), limit); m; m &= m - 1) {
                 const std::uint32_t j = k + std::uint32_t(__builtin_ctz(m));
-                if (j >= own || block_ids[j] > me) ++acc[j], ++n;
+                if (j > pos) ++acc[j], ++n;
             }
         }
 #endif
@@ -450,15 +452,14 @@ struct sweeper {
         std::uint32_t* partners = job.partner_counts ? job.partner_counts : job.counts;
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             const std::size_t nruns = g.forward_runs(cell, runs, width);
-            block.gather(g, runs, nruns, nullptr);
+            block.gather(g, runs, nruns, nullptr, false);
             const bool wrap = wraps(cell);
             grow(acc, block.padded);
             std::fill(acc.begin(), acc.begin() + block.padded, 0u);
-            // The first run holds the group's own cell: its points are ordered by id.
-            const std::uint32_t own = nruns > 0 ? runs[0].end - runs[0].begin : 0;
+            // The first run starts with the group's own cell: point s is at s - runs[0].begin.
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                job.counts[s] += kernel(x.data(), r2, box, wraps_at(wrap, x)).count_forward(block, s, own, acc.data());
+                job.counts[s] += kernel(x.data(), r2, box, wraps_at(wrap, x)).count_forward(block, s - runs[0].begin, acc.data());
             }
             // The block holds the runs one after the other: add back run by run.
             const std::uint32_t* src = acc.data();
