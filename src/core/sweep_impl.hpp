@@ -143,6 +143,14 @@ struct lanes_of {
     }
 };
 
+/// Which candidates of a block enter a point's row: those at block positions from `from` on,
+/// except position `skip` (the point itself), and, where the kernel is asked to, with id >= lo.
+struct candidate_filter {
+    std::uint32_t from = 0;
+    std::uint32_t skip = no_id;
+    std::uint32_t lo = 0;
+};
+
 /// One point against a candidate block; in a periodic box (box lengths `box`) by the minimum
 /// image, d -= box * nearbyint(d / box) per axis, as grid::distance_squared_sorted computes it,
 /// unless `wrap` is false: the caller knows that every such correction is zero.
@@ -231,25 +239,30 @@ struct point_kernel {
         return n;
     }
 
-    /// Writes the ids (and squared distances) of candidates within r whose id is >= lo and
-    /// != skip, in block order, to out (and out_d2); returns how many. Writes nothing else.
-    template <bool WithD2, bool CountOnly = false>
-    std::uint32_t emit(const candidate_block<T, D>& b, std::uint32_t lo, std::uint32_t skip,
-                       std::uint32_t* __restrict out, T* __restrict out_d2) const {
+    /// Writes the ids (and squared distances) of the candidates within r that `f` lets into
+    /// the row, in block order, to out (and out_d2); returns how many. Writes nothing else.
+    /// ById: f.lo applies (only half lists in the caller's numbering need it).
+    template <bool WithD2, bool CountOnly = false, bool ById = false>
+    std::uint32_t emit(const candidate_block<T, D>& b, const candidate_filter& f, std::uint32_t* __restrict out,
+                       T* __restrict out_d2) const {
         const T* c[D];
         for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
         const std::uint32_t* __restrict block_ids = b.id.data();
         const std::uint32_t padded = b.padded;
+        const std::uint32_t skip_vector = f.skip == no_id ? no_id : f.skip / L::n * L::n;
+        const std::uint32_t keep_at_skip = f.skip == no_id ? ~0u : ~(1u << (f.skip % L::n));
         std::uint32_t n = 0;
-#if FRNN_SWEEP_BYTES == 64
-        // Hits are compressed to the front of a register and stored under a mask of their count.
-        for (std::uint32_t k = 0; k < padded; k += L::n) {
+        // Vectors wholly before f.from hold no candidate of the row.
+        for (std::uint32_t k = f.from / L::n * L::n; k < padded; k += L::n) {
             const vec d = d2(c, k);
             std::uint32_t m = L::le_bits(d, limit);
+            if (k < f.from) m &= ~0u << (f.from - k);
+            if (k == skip_vector) m &= keep_at_skip;
+#if FRNN_SWEEP_BYTES == 64
+            // Hits are compressed to the front of a register and stored under a mask of their count.
             if constexpr (sizeof(T) == 4) {
                 const __m512i ids = _mm512_loadu_si512(block_ids + k);
-                m &= _mm512_cmpge_epu32_mask(ids, _mm512_set1_epi32(int(lo))) &
-                     _mm512_cmpneq_epu32_mask(ids, _mm512_set1_epi32(int(skip)));
+                if constexpr (ById) m &= _mm512_cmpge_epu32_mask(ids, _mm512_set1_epi32(int(f.lo)));
                 if constexpr (!CountOnly) {
                     const __mmask16 first = __mmask16((1u << __builtin_popcount(m)) - 1);
                     _mm512_mask_storeu_epi32(out + n, first, _mm512_maskz_compress_epi32(__mmask16(m), ids));
@@ -259,8 +272,7 @@ struct point_kernel {
                 }
             } else {
                 const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block_ids + k));
-                m &= _mm256_cmpge_epu32_mask(ids, _mm256_set1_epi32(int(lo))) &
-                     _mm256_cmpneq_epu32_mask(ids, _mm256_set1_epi32(int(skip)));
+                if constexpr (ById) m &= _mm256_cmpge_epu32_mask(ids, _mm256_set1_epi32(int(f.lo)));
                 if constexpr (!CountOnly) {
                     const __mmask8 first = __mmask8((1u << __builtin_popcount(m)) - 1);
                     _mm256_mask_storeu_epi32(out + n, first, _mm256_maskz_compress_epi32(__mmask8(m), ids));
@@ -270,23 +282,19 @@ struct point_kernel {
                 }
             }
             n += std::uint32_t(__builtin_popcount(m));
-        }
 #else
-        for (std::uint32_t k = 0; k < padded; k += L::n) {
-            const vec d = d2(c, k);
-            for (std::uint32_t m = L::le_bits(d, limit); m; m &= m - 1) {
+            for (; m; m &= m - 1) {
                 const int l = __builtin_ctz(m);
                 const std::uint32_t j = block_ids[k + std::uint32_t(l)];
-                if ((j >= lo) & (j != skip)) {
-                    if constexpr (!CountOnly) {
-                        out[n] = j;
-                        if constexpr (WithD2) out_d2[n] = d[l];
-                    }
-                    ++n;
+                if (ById && j < f.lo) continue;
+                if constexpr (!CountOnly) {
+                    out[n] = j;
+                    if constexpr (WithD2) out_d2[n] = d[l];
                 }
+                ++n;
             }
-        }
 #endif
+        }
         return n;
     }
 };
@@ -339,13 +347,6 @@ std::int64_t group_width_for(const grid<T, D>& g) {
     return std::clamp<std::int64_t>(std::int64_t(12.0 / per_cell), 1, 4);
 }
 
-/// The id filter of a row: candidates with id >= lo and id != skip.
-template <class T>
-void row_filter(const sweep_job<T>& job, std::uint32_t me, std::uint32_t& lo, std::uint32_t& skip) {
-    lo = job.half ? (job.self ? me : me + 1) : 0;
-    skip = job.half || job.self ? no_id : me;
-}
-
 /// The sweeps over the cells of a grid; `Periodic` for a periodic box.
 template <class T, int D, bool Periodic>
 struct sweeper {
@@ -355,6 +356,7 @@ struct sweeper {
     T box[D] = {};
     candidate_block<T, D> block;
     candidate_run runs[max_runs];
+    std::size_t nruns = 0;
     T r2;
     std::int64_t group_width;
 
@@ -419,21 +421,53 @@ struct sweeper {
     }
 
     void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width) {
-        block.gather(g, runs, g.stencil_runs(cell, runs, width), job.ids);
+        nruns = g.stencil_runs(cell, runs, width);
+        block.gather(g, runs, nruns, job.ids);
+    }
+
+    /// The block position of sorted point s, which lies in one of the gathered runs.
+    std::uint32_t block_position(std::uint32_t s) const {
+        std::uint32_t base = 0;
+        for (std::size_t k = 0; k < nruns; ++k) {
+            if (s >= runs[k].begin && s < runs[k].end) return base + (s - runs[k].begin);
+            base += runs[k].end - runs[k].begin;
+        }
+        return no_id;
+    }
+
+    /// Whether block positions follow ids: the runs of an open uniform grid come in slot
+    /// order, and without caller ids a point's id is its sorted index.
+    bool positions_in_id_order() const { return !job.ids && !Periodic && g.kind() == grid_kind::uniform; }
+    /// Whether half rows must compare ids (the kernels' ById).
+    bool filter_by_id() const { return job.half && !job.queries && !positions_in_id_order(); }
+
+    /// The candidates that enter the row of point s, at block position pos (grid points).
+    candidate_filter filter(std::uint32_t s, std::uint32_t pos) const {
+        candidate_filter f;
+        if (job.queries) return f;  // a query is no grid point: every candidate counts
+        if (!job.half) {
+            if (!job.self) f.skip = pos;
+        } else if (positions_in_id_order()) {
+            f.from = job.self ? pos : pos + 1;
+        } else {
+            f.lo = job.self ? id(s) : id(s) + 1;
+        }
+        return f;
     }
 
     void count(std::size_t b, std::size_t e) {
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
             const bool wrap = wraps(cell);
+            const std::uint32_t first = job.queries ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
                 const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 std::uint32_t c;
                 if (job.half) {
-                    std::uint32_t lo, skip;
-                    row_filter(job, id(s), lo, skip);
-                    c = kern.template emit<false, true>(block, lo, skip, nullptr, nullptr);
+                    const candidate_filter f = filter(s, first + (s - gb));
+                    c = filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
+                                       : kern.template emit<false, true>(block, f, nullptr, nullptr);
                 } else {
                     // The point itself is always a candidate at distance 0.
                     c = kern.count_all(block) - (job.self ? 0 : 1);
@@ -451,7 +485,7 @@ struct sweeper {
         std::vector<std::uint32_t> acc;
         std::uint32_t* partners = job.partner_counts ? job.partner_counts : job.counts;
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            const std::size_t nruns = g.forward_runs(cell, runs, width);
+            nruns = g.forward_runs(cell, runs, width);
             block.gather(g, runs, nruns, nullptr, false);
             const bool wrap = wraps(cell);
             grow(acc, block.padded);
@@ -483,11 +517,11 @@ struct sweeper {
             gather(cell, width);
             const bool wrap = wraps(cell);
             if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
+            const std::uint32_t first = job.queries ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
                 const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
-                std::uint32_t lo, skip;
-                row_filter(job, id(s), lo, skip);
+                const candidate_filter f = filter(s, first + (s - gb));
                 const std::uint64_t dst = job.offsets[id(s)];
                 std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
                 T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
@@ -495,8 +529,12 @@ struct sweeper {
                     grow(row_d2, block.padded);
                     d2 = row_d2.data();
                 }
-                std::uint32_t n = d2 ? kern.template emit<true>(block, lo, skip, ids, d2)
-                                     : kern.template emit<false>(block, lo, skip, ids, nullptr);
+                std::uint32_t n;
+                if (filter_by_id())
+                    n = d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
+                           : kern.template emit<false, false, true>(block, f, ids, nullptr);
+                else
+                    n = d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
                 if (job.k_nearest > 0 || job.order == row_order::distance ||
                     (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
                     if (d2) n = sort_row(n, ids, d2, pairs);
