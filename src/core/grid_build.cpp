@@ -176,18 +176,8 @@ void grid<T, D>::configure(std::span<const T> coords) {
         std::vector<std::size_t> first_bad(parts, n);
         std::vector<std::array<double, 6>> box(parts);
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-            // Branch-free pass in T: v - v is 0 for finite v and NaN otherwise, so one flag
-            // tells whether the chunk needs the slow search for its first bad point.
             T mn[D], mx[D], nonfinite[D];
-            for (int a = 0; a < D; ++a) mn[a] = T(INFINITY), mx[a] = -T(INFINITY), nonfinite[a] = 0;
-            for (std::size_t i = b; i < e; ++i) {
-                for (int a = 0; a < D; ++a) {
-                    const T v = coords[i * D + a];
-                    mn[a] = v < mn[a] ? v : mn[a];
-                    mx[a] = v > mx[a] ? v : mx[a];
-                    nonfinite[a] += v - v;
-                }
-            }
+            detail::sweep_for_cpu<T, D>().bounds(coords.data(), b, e, mn, mx, nonfinite);
             std::array<double, 6> bb;
             for (int a = 0; a < 3; ++a) bb[a] = INFINITY, bb[3 + a] = -INFINITY;
             for (int a = 0; a < D; ++a) {

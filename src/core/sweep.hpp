@@ -74,6 +74,10 @@ struct sweep_kernels {
     void (*uniform_slots)(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out);
     /// The same for the hashed grid.
     void (*hashed_slots)(const T* coords, std::size_t b, std::size_t e, const hashed_frame& f, std::uint32_t* out);
+    /// Per axis, the least and greatest coordinate of the input points [b, e) of `coords`
+    /// (interleaved) into lo and hi, and into nonfinite a sum that is 0 when every coordinate
+    /// is finite and NaN otherwise.
+    void (*bounds)(const T* coords, std::size_t b, std::size_t e, T* lo, T* hi, T* nonfinite);
 };
 
 /// The kernels of the level in use (see frnn/simd.hpp).

@@ -613,9 +613,37 @@ void hashed_slots(const T* coords, std::size_t b, std::size_t e, const hashed_fr
 }
 
 template <class T, int D>
+void bounds(const T* coords, std::size_t b, std::size_t e, T* lo, T* hi, T* nonfinite) {
+    // Over the interleaved values in blocks of 16 points, one accumulator per position: value
+    // l of a block belongs to axis l % D, so the loop vectorizes without shuffles. v - v is 0
+    // for a finite v and NaN otherwise.
+    constexpr std::size_t w = 16 * D;
+    T mn[w], mx[w], bad[w];
+    for (std::size_t l = 0; l < w; ++l) mn[l] = T(INFINITY), mx[l] = -T(INFINITY), bad[l] = 0;
+    const T* __restrict x = coords + b * D;
+    const std::size_t total = (e - b) * D;
+    auto take = [&](std::size_t l, T v) {
+        mn[l] = v < mn[l] ? v : mn[l];
+        mx[l] = v > mx[l] ? v : mx[l];
+        bad[l] += v - v;
+    };
+    std::size_t i = 0;
+    for (; i + w <= total; i += w)
+        for (std::size_t l = 0; l < w; ++l) take(l, x[i + l]);
+    for (; i < total; ++i) take(i % w, x[i]);
+    for (int a = 0; a < D; ++a) lo[a] = T(INFINITY), hi[a] = -T(INFINITY), nonfinite[a] = 0;
+    for (std::size_t l = 0; l < w; ++l) {
+        const std::size_t a = l % D;
+        lo[a] = std::min(lo[a], mn[l]);
+        hi[a] = std::max(hi[a], mx[l]);
+        nonfinite[a] += bad[l];
+    }
+}
+
+template <class T, int D>
 const sweep_kernels<T, D>& table() {
     static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>, &uniform_slots<T, D>,
-                                       &hashed_slots<T, D>};
+                                       &hashed_slots<T, D>, &bounds<T, D>};
     return t;
 }
 
