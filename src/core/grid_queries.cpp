@@ -8,6 +8,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/slab_schedule.hpp"
 #include "core/sweep.hpp"
 #include "cpu/parallel.hpp"
 #include "frnn/grid.hpp"
@@ -139,8 +140,8 @@ struct query_engine {
     }
 
     /// Neighbor counts of the grid's own points by sorted index (the point itself included
-    /// when `self`). The uniform grid visits each pair of cells once, in two rounds of
-    /// alternate slabs of cell layers so that concurrent sweeps never add to the same count.
+    /// when `self`). The uniform grid visits each pair of cells once, in rounds of slabs of
+    /// cell layers (slab_schedule.hpp) so that concurrent sweeps never add to the same count.
     void full_counts(std::uint32_t* counts, bool self) const {
         const std::size_t rows = g.size();
         const auto& kernels = sweep_for_cpu<T, D>();
@@ -178,26 +179,13 @@ struct query_engine {
             });
             return;
         }
-        const std::size_t layers = std::size_t(dims[D - 1]);
         const std::size_t per_layer = D == 3 ? std::size_t(dims[0] * dims[1]) : std::size_t(dims[0]);
-        // Slabs of at least `reach` layers (the last one takes the rest), so that a sweep only
-        // reaches into the next slab: two rounds, even slabs then odd ones. In a periodic box
-        // the last slab reaches into the first, so with an odd number it goes alone, last.
-        const std::size_t want = std::max<std::size_t>(1, std::size_t(threads) * 32);
-        const std::size_t thick = std::max<std::size_t>(std::size_t(g.reach()), (layers + want - 1) / want);
-        const std::size_t slabs = std::max<std::size_t>(1, layers / thick);
-        const bool last_alone = g.periodic() && slabs > 1 && slabs % 2 == 1;
         const auto starts = g.cell_starts();
-        auto sweep_slab = [&](std::size_t slab) {
-            const std::size_t z0 = slab * thick, z1 = slab + 1 == slabs ? layers : z0 + thick;
-            kernels.count_pairs(g, job, starts[z0 * per_layer], starts[z1 * per_layer]);
-        };
-        const std::size_t paired = last_alone ? slabs - 1 : slabs;
-        for (std::size_t round = 0; round < 2; ++round) {
-            const std::size_t n = (paired + 1 - round) / 2;
-            for_each_chunk(n, n, threads, [&](std::size_t c, std::size_t, std::size_t) { sweep_slab(2 * c + round); });
+        for (const auto& round : slab_rounds(std::size_t(dims[D - 1]), std::size_t(g.reach()), threads, g.periodic())) {
+            for_each_chunk(round.size(), round.size(), threads, [&](std::size_t c, std::size_t, std::size_t) {
+                kernels.count_pairs(g, job, starts[round[c].begin * per_layer], starts[round[c].end * per_layer]);
+            });
         }
-        if (last_alone) sweep_slab(slabs - 1);
     }
 
     /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.
