@@ -70,11 +70,9 @@ struct candidate_block {
         for (std::size_t k = 0; k < nruns; ++k) {
             const std::uint32_t len = runs[k].end - runs[k].begin;
             for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + runs[k].begin, len);
-            if (!with_ids) {
-            } else if (ids) {
-                copy_ids(dst_id + m, ids + runs[k].begin, len);
-            } else {
-                count_up(dst_id + m, runs[k].begin, len);
+            if (with_ids) {
+                if (ids) copy_ids(dst_id + m, ids + runs[k].begin, len);
+                else count_up(dst_id + m, runs[k].begin, len);
             }
             m += len;
         }
@@ -190,7 +188,6 @@ struct point_kernel {
         return d;
     }
 
-
     /// Candidates within r, the point itself included.
     std::uint32_t count_all(const candidate_block<T, D>& b) const {
         const T* c[D];
@@ -241,7 +238,7 @@ struct point_kernel {
 
     /// Writes the ids (and squared distances) of the candidates within r that `f` lets into
     /// the row, in block order, to out (and out_d2); returns how many. Writes nothing else.
-    /// ById: f.lo applies (only half lists in the caller's numbering need it).
+    /// ById: f.lo applies (half rows whose block is not in id order need it).
     template <bool WithD2, bool CountOnly = false, bool ById = false>
     std::uint32_t emit(const candidate_block<T, D>& b, const candidate_filter& f, std::uint32_t* __restrict out,
                        T* __restrict out_d2) const {
