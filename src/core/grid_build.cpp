@@ -252,7 +252,11 @@ void grid<T, D>::configure(std::span<const T> coords) {
             return cells;
         };
         double cells = cells_over(lo.data(), hi.data());
-        const double cap = std::max(4.0 * double(n), 4096.0);
+        // Cells smaller than r multiply the cells of a box by (r / cell)^D; the hashed grid
+        // would then look up that many more cells per point (nearly all empty), which costs
+        // far more than their 4 bytes each in a uniform grid. So the budget grows with them,
+        // up to 8 times.
+        const double cap = std::max(4.0 * double(n), 4096.0) * std::min(8.0, std::pow(r / cell, D));
         grid_kind kind = o.kind;
         if (kind == grid_kind::automatic && cells > cap && o.domain_min.empty()) {
             // A few far outliers should not force the hashed grid: a uniform grid over the

@@ -80,6 +80,27 @@ TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_sh
     EXPECT_EQ(g.count_neighbors(), sizes);
 }
 
+// Cells of r/4 on a lattice fill one cell in 8: 8 cells per point, twice the budget of cells
+// of size r. The automatic kind must still pick the uniform grid (the hashed grid would look
+// up 729 cells per point, nearly all empty), and stay exact.
+TEST(grid_basics, small_cells_on_a_dense_lattice_keep_the_uniform_grid) {
+    std::vector<double> p;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+    for (int z = 0; z < 20; ++z)
+        for (int y = 0; y < 20; ++y)
+            for (int x = 0; x < 20; ++x) p.insert(p.end(), {x + jitter(rng), y + jitter(rng), z + jitter(rng)});
+    frnn::grid_options o;
+    o.cell_size = 0.5;
+    frnn::grid<double, 3> g(p, 2.0, o);
+    EXPECT_EQ(g.kind(), frnn::grid_kind::uniform);
+    EXPECT_GT(g.cell_count(), 4 * g.size());
+    const auto ref = frnn::brute_force_lists<double, 3>(p, p, 2.0, true);
+    frnn::list_options lo;
+    lo.order = frnn::row_order::index;
+    EXPECT_EQ(g.neighbor_lists(lo).indices, ref.indices);
+}
+
 TEST(grid_basics, nan_is_rejected_with_its_index) {
     std::vector<float> p{0, 0, 1, 1, NAN, 2};
     try {
