@@ -11,6 +11,8 @@ namespace frnn::detail::FRNN_SWEEP_NS {
 
 /// The block is padded to a multiple of this many values: the widest vector of floats.
 constexpr std::uint32_t block_multiple = 16;
+/// How many points ahead a fill sweep fetches the lines of a scattered output row.
+constexpr std::uint32_t row_prefetch_distance = 8;
 /// Id of no point: padding lanes and "no id to skip". Grids hold at most 2^32 - 2 points.
 constexpr std::uint32_t no_id = 0xFFFFFFFFu;
 
@@ -510,6 +512,15 @@ struct sweeper {
         std::vector<std::uint32_t> row_ids;
         std::vector<T> row_d2;
         std::vector<std::pair<T, std::uint32_t>> pairs;
+        // Rows by the caller's numbering or by query index start at scattered places. Their
+        // starts are read first, in one pass whose reads overlap: read between rows, each
+        // waited for memory (W2 lists at 1M points took 1.8x as long). The lines of a row are
+        // then fetched a few points before it is written.
+        std::vector<std::uint64_t> starts;
+        if (job.ids || job.queries) {
+            starts.resize(e - b);
+            for (std::size_t s = b; s < e; ++s) starts[s - b] = job.offsets[id(std::uint32_t(s))];
+        }
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
             const bool wrap = wraps(cell);
@@ -519,7 +530,12 @@ struct sweeper {
                 const auto x = point(s);
                 const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 const candidate_filter f = filter(s, first + (s - gb));
-                const std::uint64_t dst = job.offsets[id(s)];
+                const std::uint64_t dst = starts.empty() ? job.offsets[s] : starts[s - b];
+                if (!starts.empty() && s + row_prefetch_distance < e) {
+                    const std::uint32_t* ahead = job.indices + starts[s + row_prefetch_distance - b];
+                    __builtin_prefetch(ahead, 1);
+                    __builtin_prefetch(ahead + 16, 1);
+                }
                 std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
                 T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
                 if (need_d2 && !d2) {  // ordering by distance without returning distances
