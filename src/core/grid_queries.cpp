@@ -215,7 +215,10 @@ struct query_engine {
         resize_discarding(out.offsets, rows + 1);
         out.offsets[rows] = 0;
         for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
-            for (std::size_t s = b; s < e; ++s) out.offsets[sorted_space ? s : perm[s]] = sizes[s];
+            for (std::size_t s = b; s < e; ++s) {
+                if (!sorted_space && s + 16 < e) __builtin_prefetch(&out.offsets[perm[s + 16]], 1);
+                out.offsets[sorted_space ? s : perm[s]] = sizes[s];
+            }
         });
         fill_rows(out, job, o.distances, parts);
     }
@@ -245,7 +248,10 @@ std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space space) const 
     const int threads = q.threads;
     detail::for_each_chunk(size(), detail::chunk_count(size(), threads, 1 << 15), threads,
                            [&](std::size_t, std::size_t b, std::size_t e) {
-                               for (std::size_t s = b; s < e; ++s) out[perm_[s]] = sorted[s];
+                               for (std::size_t s = b; s < e; ++s) {
+                                   if (s + 16 < e) __builtin_prefetch(&out[perm_[s + 16]], 1);
+                                   out[perm_[s]] = sorted[s];
+                               }
                            });
     return out;
 }
