@@ -2,8 +2,10 @@
 // points), swept cell by cell: the candidates of a cell's stencil are gathered once into one
 // contiguous block padded to whole vectors, and every point of the cell is tested against
 // that block, by the minimum image in a periodic box. Lists take two sweeps: row sizes, then
-// the rows written straight into the final CSR arrays, so no intermediate buffers exist and
-// each point only writes its own row: the output does not depend on the thread count.
+// the rows written straight into the final CSR arrays, so each point only writes its own row
+// and the output does not depend on the thread count. Where they fit in a small budget, the
+// first sweep keeps the hit bits of every distance test, and the second writes the rows from
+// them instead of testing again.
 //
 // The kernels are compiled once per instruction-set level (sweep_base.cpp, sweep_avx2.cpp,
 // sweep_avx512.cpp) and chosen at run time.
@@ -40,6 +42,10 @@ struct sweep_job {
     /// counts are then by query index; sweep ranges [b, e) are positions in query_order.
     const T* queries = nullptr;
     const std::uint32_t* query_order = nullptr;
+
+    /// count_kept writes and fill_kept reads the hit bits of [b, e) here, as many bytes as
+    /// kept_hit_bytes gives.
+    std::byte* hits = nullptr;
 };
 
 /// Uniform grid with open boundaries: cell (x, y, z) of a point holds
@@ -69,6 +75,13 @@ struct sweep_kernels {
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// The bytes that count_kept keeps for the sorted points [b, e): one bit per candidate,
+    /// whole vectors per point.
+    std::size_t (*kept_hit_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// count for full rows (not half, no k nearest, grid points), keeping the hit bits in job.hits.
+    void (*count_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// fill from the hit bits that count_kept kept for the same [b, e); rows without distances.
+    void (*fill_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Not a sweep, but vector code of the build: the slots of the input points [b, e) of
     /// `coords` (interleaved) into out[0, e - b).
     void (*uniform_slots)(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out);

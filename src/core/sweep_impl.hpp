@@ -64,27 +64,40 @@ struct candidate_block {
         std::size_t total = 0;
         for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
         for (auto& axis : c) grow(axis, total + 2 * block_multiple);
-        grow(id, total + 2 * block_multiple);
         T* __restrict dst[D];
         for (int a = 0; a < D; ++a) dst[a] = c[a].data();
-        std::uint32_t* __restrict dst_id = id.data();
         std::uint32_t m = 0;
         for (std::size_t k = 0; k < nruns; ++k) {
             const std::uint32_t len = runs[k].end - runs[k].begin;
             for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + runs[k].begin, len);
-            if (with_ids) {
-                if (ids) copy_ids(dst_id + m, ids + runs[k].begin, len);
-                else count_up(dst_id + m, runs[k].begin, len);
-            }
             m += len;
         }
         size = m;
-        padded = (m + block_multiple - 1) / block_multiple * block_multiple;
-        for (std::uint32_t j = m; j < padded; ++j) {
+        padded = padded_size(m);
+        for (std::uint32_t j = m; j < padded; ++j)
             for (int a = 0; a < D; ++a) c[a][j] = T(INFINITY);
-            if (with_ids) id[j] = no_id;
-        }
+        if (with_ids) gather_ids(runs, nruns, ids);
     }
+
+    /// Only the ids and the size of the block that gather would make.
+    void gather_ids(const candidate_run* runs, std::size_t nruns, const std::uint32_t* ids) {
+        std::uint32_t total = 0;
+        for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
+        grow(id, total + 2 * block_multiple);
+        std::uint32_t* __restrict dst_id = id.data();
+        std::uint32_t m = 0;
+        for (std::size_t k = 0; k < nruns; ++k) {
+            const std::uint32_t len = runs[k].end - runs[k].begin;
+            if (ids) copy_ids(dst_id + m, ids + runs[k].begin, len);
+            else count_up(dst_id + m, runs[k].begin, len);
+            m += len;
+        }
+        size = m;
+        padded = padded_size(m);
+        for (std::uint32_t j = m; j < padded; ++j) id[j] = no_id;
+    }
+
+    static std::uint32_t padded_size(std::uint32_t n) { return (n + block_multiple - 1) / block_multiple * block_multiple; }
 };
 
 /// Vector operations of this level on T.
@@ -142,6 +155,27 @@ struct lanes_of {
 #endif
     }
 };
+
+/// Writes ids[l] for each bit l of `bits`, in lane order, to out[0, popcount(bits)) and
+/// nothing else (rows of other points may follow); returns how many. `lanes` ids are read.
+template <int Lanes>
+std::uint32_t store_hits(std::uint32_t* __restrict out, std::uint32_t bits, const std::uint32_t* __restrict ids) {
+    const auto n = std::uint32_t(__builtin_popcount(bits));
+#if FRNN_SWEEP_BYTES == 64
+    // Compressed to the front of a register and stored under a mask of the count.
+    if constexpr (Lanes == 16) {
+        _mm512_mask_storeu_epi32(out, __mmask16((1u << n) - 1), _mm512_maskz_compress_epi32(__mmask16(bits), _mm512_loadu_si512(ids)));
+        return n;
+    } else if constexpr (Lanes == 8) {
+        _mm256_mask_storeu_epi32(out, __mmask8((1u << n) - 1),
+                                 _mm256_maskz_compress_epi32(__mmask8(bits), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids))));
+        return n;
+    }
+#endif
+    std::uint32_t k = 0;
+    for (; bits; bits &= bits - 1) out[k++] = ids[__builtin_ctz(bits)];
+    return n;
+}
 
 /// Which candidates of a block enter a point's row: those at block positions from `from` on,
 /// except position `skip` (the point itself), and, where the kernel is asked to, with id >= lo.
@@ -238,6 +272,23 @@ struct point_kernel {
         return n;
     }
 
+    /// Candidates within r, but for block position `skip` (no_id: none): returns how many and
+    /// writes the bits of the hits of each vector of the block, one word per vector, to bits.
+    template <class Word>
+    std::uint32_t keep_hits(const candidate_block<T, D>& b, std::uint32_t skip, Word* __restrict bits) const {
+        const T* c[D];
+        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const std::uint32_t padded = b.padded;
+        std::uint32_t n = 0;
+        for (std::uint32_t k = 0; k < padded; k += L::n) {
+            std::uint32_t m = L::le_bits(d2(c, k), limit);
+            if (skip - k < std::uint32_t(L::n)) m &= ~(1u << (skip - k));
+            bits[k / L::n] = Word(m);
+            n += std::uint32_t(__builtin_popcount(m));
+        }
+        return n;
+    }
+
     /// Writes the ids (and squared distances) of the candidates within r that `f` lets into
     /// the row, in block order, to out (and out_d2); returns how many. Writes nothing else.
     /// ById: f.lo applies (half rows whose block is not in id order need it).
@@ -258,25 +309,22 @@ struct point_kernel {
             if (k < f.from) m &= ~0u << (f.from - k);
             if (k == skip_vector) m &= keep_at_skip;
 #if FRNN_SWEEP_BYTES == 64
-            // Hits are compressed to the front of a register and stored under a mask of their count.
             if constexpr (sizeof(T) == 4) {
-                const __m512i ids = _mm512_loadu_si512(block_ids + k);
-                if constexpr (ById) m &= _mm512_cmpge_epu32_mask(ids, _mm512_set1_epi32(int(f.lo)));
+                if constexpr (ById) m &= _mm512_cmpge_epu32_mask(_mm512_loadu_si512(block_ids + k), _mm512_set1_epi32(int(f.lo)));
                 if constexpr (!CountOnly) {
-                    const __mmask16 first = __mmask16((1u << __builtin_popcount(m)) - 1);
-                    _mm512_mask_storeu_epi32(out + n, first, _mm512_maskz_compress_epi32(__mmask16(m), ids));
+                    store_hits<16>(out + n, m, block_ids + k);
                     if constexpr (WithD2)
-                        _mm512_mask_storeu_ps(out_d2 + n, first,
+                        _mm512_mask_storeu_ps(out_d2 + n, __mmask16((1u << __builtin_popcount(m)) - 1),
                                               _mm512_maskz_compress_ps(__mmask16(m), reinterpret_cast<__m512>(d)));
                 }
             } else {
-                const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(block_ids + k));
-                if constexpr (ById) m &= _mm256_cmpge_epu32_mask(ids, _mm256_set1_epi32(int(f.lo)));
+                if constexpr (ById)
+                    m &= _mm256_cmpge_epu32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(block_ids + k)),
+                                                 _mm256_set1_epi32(int(f.lo)));
                 if constexpr (!CountOnly) {
-                    const __mmask8 first = __mmask8((1u << __builtin_popcount(m)) - 1);
-                    _mm256_mask_storeu_epi32(out + n, first, _mm256_maskz_compress_epi32(__mmask8(m), ids));
+                    store_hits<8>(out + n, m, block_ids + k);
                     if constexpr (WithD2)
-                        _mm512_mask_storeu_pd(out_d2 + n, first,
+                        _mm512_mask_storeu_pd(out_d2 + n, __mmask8((1u << __builtin_popcount(m)) - 1),
                                               _mm512_maskz_compress_pd(__mmask8(m), reinterpret_cast<__m512d>(d)));
                 }
             }
@@ -506,21 +554,37 @@ struct sweeper {
         });
     }
 
+    /// Rows by the caller's numbering or by query index start at scattered places. Their
+    /// starts are read first, in one pass whose reads overlap: read between rows, each waited
+    /// for memory (W2 lists at 1M points took 1.8x as long). Empty for rows in sorted order.
+    std::vector<std::uint64_t> scattered_row_starts(std::size_t b, std::size_t e) const {
+        std::vector<std::uint64_t> starts;
+        if (job.ids || job.queries) {
+            starts.resize(e - b);
+            for (std::size_t s = b; s < e; ++s) starts[s - b] = job.offsets[id(std::uint32_t(s))];
+        }
+        return starts;
+    }
+
+    /// Where the row of point s starts; fetches the lines of a scattered row a few points
+    /// before it is written.
+    std::uint64_t row_start(const std::vector<std::uint64_t>& starts, std::uint32_t s, std::size_t b, std::size_t e) const {
+        if (starts.empty()) return job.offsets[s];
+        if (s + row_prefetch_distance < e) {
+            const std::uint32_t* ahead = job.indices + starts[s + row_prefetch_distance - b];
+            __builtin_prefetch(ahead, 1);
+            __builtin_prefetch(ahead + 16, 1);
+        }
+        return starts[s - b];
+    }
+
     void fill(std::size_t b, std::size_t e) {
         // Rows are written in place; only k-nearest rows, longer than their place, take a buffer.
         const bool need_d2 = job.distances || job.order == row_order::distance || job.k_nearest > 0;
         std::vector<std::uint32_t> row_ids;
         std::vector<T> row_d2;
         std::vector<std::pair<T, std::uint32_t>> pairs;
-        // Rows by the caller's numbering or by query index start at scattered places. Their
-        // starts are read first, in one pass whose reads overlap: read between rows, each
-        // waited for memory (W2 lists at 1M points took 1.8x as long). The lines of a row are
-        // then fetched a few points before it is written.
-        std::vector<std::uint64_t> starts;
-        if (job.ids || job.queries) {
-            starts.resize(e - b);
-            for (std::size_t s = b; s < e; ++s) starts[s - b] = job.offsets[id(std::uint32_t(s))];
-        }
+        const std::vector<std::uint64_t> starts = scattered_row_starts(b, e);
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
             const bool wrap = wraps(cell);
@@ -530,12 +594,7 @@ struct sweeper {
                 const auto x = point(s);
                 const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 const candidate_filter f = filter(s, first + (s - gb));
-                const std::uint64_t dst = starts.empty() ? job.offsets[s] : starts[s - b];
-                if (!starts.empty() && s + row_prefetch_distance < e) {
-                    const std::uint32_t* ahead = job.indices + starts[s + row_prefetch_distance - b];
-                    __builtin_prefetch(ahead, 1);
-                    __builtin_prefetch(ahead + 16, 1);
-                }
+                const std::uint64_t dst = row_start(starts, s, b, e);
                 std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
                 T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
                 if (need_d2 && !d2) {  // ordering by distance without returning distances
@@ -562,6 +621,58 @@ struct sweeper {
         });
     }
 
+    /// One bit per candidate of a block, a word per vector.
+    using hit_word = std::conditional_t<(kernel::L::n > 8), std::uint16_t, std::uint8_t>;
+
+    std::size_t kept_hit_bytes(std::size_t b, std::size_t e) {
+        std::size_t words = 0;
+        for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+            nruns = g.stencil_runs(cell, runs, width);
+            std::uint32_t total = 0;
+            for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
+            words += std::size_t(ge - gb) * (candidate_block<T, D>::padded_size(total) / kernel::L::n);
+        });
+        return words * sizeof(hit_word);
+    }
+
+    /// count, for full rows of grid points, keeping the hit bits of every vector in job.hits.
+    void count_kept(std::size_t b, std::size_t e) {
+        auto* bits = reinterpret_cast<hit_word*>(job.hits);
+        for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+            nruns = g.stencil_runs(cell, runs, width);
+            block.gather(g, runs, nruns, nullptr, false);
+            const bool wrap = wraps(cell);
+            const std::uint32_t first = block_position(gb);
+            const std::uint32_t vectors = block.padded / kernel::L::n;
+            for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
+                const auto x = point(s);
+                const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
+                job.counts[s] = kern.keep_hits(block, job.self ? no_id : first + (s - gb), bits);
+            }
+        });
+    }
+
+    /// fill from the bits that count_kept kept: the ids they select, no distance computed.
+    void fill_kept(std::size_t b, std::size_t e) {
+        const auto* next = reinterpret_cast<const hit_word*>(job.hits);
+        const std::vector<std::uint64_t> starts = scattered_row_starts(b, e);
+        for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+            nruns = g.stencil_runs(cell, runs, width);
+            block.gather_ids(runs, nruns, job.ids);
+            const std::uint32_t padded = block.padded;
+            const std::uint32_t* __restrict ids = block.id.data();
+            // A local cursor: a captured one would be reloaded after every store.
+            const hit_word* __restrict bits = next;
+            for (std::uint32_t s = gb; s < ge; ++s) {
+                std::uint32_t* __restrict out = job.indices + row_start(starts, s, b, e);
+                std::uint32_t n = 0;
+                for (std::uint32_t k = 0; k < padded; k += kernel::L::n) n += store_hits<kernel::L::n>(out + n, *bits++, ids + k);
+                if (job.order == row_order::index && !std::is_sorted(out, out + n)) std::sort(out, out + n);
+            }
+            next = bits;
+        });
+    }
+
     /// Orders a row by distance (ties by id) or by id, keeping the k nearest when asked.
     std::uint32_t sort_row(std::uint32_t n, std::uint32_t* ids, T* d2, std::vector<std::pair<T, std::uint32_t>>& pairs) const {
         pairs.resize(n);
@@ -581,22 +692,40 @@ struct sweeper {
     }
 };
 
+/// f(sweeper) with the sweeper of g's kind of box.
+template <class T, int D, class F>
+auto with_sweeper(const grid<T, D>& g, const sweep_job<T>& job, F&& f) {
+    if (g.periodic()) {
+        sweeper<T, D, true> s(g, job);
+        return f(s);
+    }
+    sweeper<T, D, false> s(g, job);
+    return f(s);
+}
+
 template <class T, int D>
 void count(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    if (g.periodic()) sweeper<T, D, true>(g, job).count(b, e);
-    else sweeper<T, D, false>(g, job).count(b, e);
+    with_sweeper(g, job, [&](auto& s) { s.count(b, e); });
 }
-
 template <class T, int D>
 void count_pairs(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    if (g.periodic()) sweeper<T, D, true>(g, job).count_pairs(b, e);
-    else sweeper<T, D, false>(g, job).count_pairs(b, e);
+    with_sweeper(g, job, [&](auto& s) { s.count_pairs(b, e); });
 }
-
 template <class T, int D>
 void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    if (g.periodic()) sweeper<T, D, true>(g, job).fill(b, e);
-    else sweeper<T, D, false>(g, job).fill(b, e);
+    with_sweeper(g, job, [&](auto& s) { s.fill(b, e); });
+}
+template <class T, int D>
+std::size_t kept_hit_bytes(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    return with_sweeper(g, job, [&](auto& s) { return s.kept_hit_bytes(b, e); });
+}
+template <class T, int D>
+void count_kept(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    with_sweeper(g, job, [&](auto& s) { s.count_kept(b, e); });
+}
+template <class T, int D>
+void fill_kept(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    with_sweeper(g, job, [&](auto& s) { s.fill_kept(b, e); });
 }
 
 template <class T, int D>
@@ -655,8 +784,9 @@ void bounds(const T* coords, std::size_t b, std::size_t e, T* lo, T* hi, T* nonf
 
 template <class T, int D>
 const sweep_kernels<T, D>& table() {
-    static const sweep_kernels<T, D> t{&count<T, D>, &count_pairs<T, D>, &fill<T, D>, &uniform_slots<T, D>,
-                                       &hashed_slots<T, D>, &bounds<T, D>};
+    static const sweep_kernels<T, D> t{&count<T, D>,         &count_pairs<T, D>, &fill<T, D>,
+                                       &kept_hit_bytes<T, D>, &count_kept<T, D>,  &fill_kept<T, D>,
+                                       &uniform_slots<T, D>,  &hashed_slots<T, D>, &bounds<T, D>};
     return t;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "cpu/page_release.hpp"
 #include "frnn/buffer.hpp"
 
 #if defined(__linux__)
@@ -58,6 +59,18 @@ void deallocate_large(void* p, std::size_t bytes) noexcept {
 #else
     std::free(p);
 #endif
+}
+
+std::byte* release_pages(std::byte* begin, std::byte* end) noexcept {
+#if defined(__linux__) && defined(MADV_DONTNEED)
+    const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + huge_page - 1) / huge_page * huge_page;
+    const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / huge_page * huge_page;
+    if (last > first && madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED) == 0)
+        return begin + (last - reinterpret_cast<std::uintptr_t>(begin));
+#else
+    (void)end;
+#endif
+    return begin;
 }
 
 }  // namespace frnn::detail
