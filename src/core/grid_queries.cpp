@@ -90,11 +90,11 @@ struct query_engine {
         out.offsets[rows] = 0;
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
-        const auto& kernels = sweep_for_cpu<T, D>();
-        const std::size_t parts = chunk_count(rows, threads, 2048);
-        for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+        std::size_t parts = chunk_count(rows, threads, 2048);
+        const auto kept = keeps_hits(o, k_nearest) ? plan_kept_hits(job, rows, parts) : nullptr;
+        count_rows(job, rows, parts, kept.get());
         std::copy(sizes.begin(), sizes.end(), out.offsets.begin());
-        fill_rows(out, job, o.distances, parts);
+        fill_rows(out, job, o.distances, parts, kept.get());
     }
 
     /// Neighbor counts of the grid's own points at their sorted positions (the point itself
@@ -189,18 +189,10 @@ struct query_engine {
         job.order = k_nearest > 0 ? row_order::distance : o.order;
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
-        const auto& kernels = sweep_for_cpu<T, D>();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        std::unique_ptr<kept_hits> kept;
-        if (!o.half && k_nearest == 0 && !o.distances && o.order != row_order::distance) kept = plan_kept_hits(job, parts);
-        if (kept) {
-            for_each_chunk(rows, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-                sweep_job<T> own = job;
-                own.hits = kept->chunk(c);
-                kernels.count_kept(g, own, b, e);
-            });
-        } else if (o.half) {
-            for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+        const auto kept = keeps_hits(o, k_nearest) ? plan_kept_hits(job, rows, parts) : nullptr;
+        if (kept || o.half) {
+            count_rows(job, rows, parts, kept.get());
         } else {
             full_counts(sizes.data(), o.self);
             if (k_nearest > 0) {
@@ -219,14 +211,30 @@ struct query_engine {
         fill_rows(out, job, o.distances, parts, kept.get());
     }
 
+    /// Whether the rows of a list are ones whose hit bits the count sweep can keep: full rows
+    /// (not half, not the k nearest) in block order or sorted by index, without distances.
+    static bool keeps_hits(const list_options& o, std::size_t k_nearest) {
+        return !o.half && k_nearest == 0 && !o.distances && o.order != row_order::distance;
+    }
+
+    /// The count sweep of a list: row sizes into job.counts, keeping the hit bits if `kept`.
+    void count_rows(const sweep_job<T>& job, std::size_t rows, std::size_t parts, kept_hits* kept) const {
+        const auto& kernels = sweep_for_cpu<T, D>();
+        for_each_chunk(rows, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            if (!kept) return kernels.count(g, job, b, e);
+            sweep_job<T> own = job;
+            own.hits = kept->chunk(c);
+            kernels.count_kept(g, own, b, e);
+        });
+    }
+
     /// Full rows without distances can skip the second round of distance tests: the count
     /// sweep keeps the hit bits and the fill writes the ids they select (W1 lists at 1M points,
     /// 2 threads: 114 -> 96 ms, into a reused output 99 -> 77). Returns their store, cut into chunks of at most 32,768 points
     /// (`parts` becomes their number), when the bits take at most 32 bytes per point (W1 on
     /// AVX-512 takes 28); null otherwise (dense or clustered points), leaving `parts` alone.
-    std::unique_ptr<kept_hits> plan_kept_hits(const sweep_job<T>& job, std::size_t& parts) const {
+    std::unique_ptr<kept_hits> plan_kept_hits(const sweep_job<T>& job, std::size_t rows, std::size_t& parts) const {
         constexpr std::size_t budget_per_point = 32, max_chunk = 32768;
-        const std::size_t rows = g.size();
         if (rows == 0) return nullptr;
         // Small chunks even on one thread: the memory of each goes back once it is filled.
         const std::size_t chunks = std::max(parts, (rows + max_chunk - 1) / max_chunk);

@@ -78,7 +78,7 @@ struct sweep_kernels {
     /// The bytes that count_kept keeps for the sorted points [b, e): one bit per candidate,
     /// whole vectors per point.
     std::size_t (*kept_hit_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// count for full rows (not half, no k nearest, grid points), keeping the hit bits in job.hits.
+    /// count for full rows (not half, no k nearest), keeping the hit bits in job.hits.
     void (*count_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// fill from the hit bits that count_kept kept for the same [b, e); rows without distances.
     void (*fill_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);

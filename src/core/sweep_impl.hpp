@@ -635,19 +635,19 @@ struct sweeper {
         return words * sizeof(hit_word);
     }
 
-    /// count, for full rows of grid points, keeping the hit bits of every vector in job.hits.
+    /// count for full rows, keeping the hit bits of every vector in job.hits.
     void count_kept(std::size_t b, std::size_t e) {
         auto* bits = reinterpret_cast<hit_word*>(job.hits);
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             nruns = g.stencil_runs(cell, runs, width);
             block.gather(g, runs, nruns, nullptr, false);
             const bool wrap = wraps(cell);
-            const std::uint32_t first = block_position(gb);
+            const std::uint32_t first = job.queries ? 0 : block_position(gb);
             const std::uint32_t vectors = block.padded / kernel::L::n;
             for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
                 const auto x = point(s);
                 const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
-                job.counts[s] = kern.keep_hits(block, job.self ? no_id : first + (s - gb), bits);
+                job.counts[job.queries ? id(s) : s] = kern.keep_hits(block, job.self ? no_id : first + (s - gb), bits);
             }
         });
     }
