@@ -4,7 +4,6 @@
 // goes: the bits and the rows written so far then take about the memory of the rows alone.
 #pragma once
 #include <cstddef>
-#include <cstdlib>
 #include <mutex>
 #include <numeric>
 #include <vector>
@@ -33,7 +32,7 @@ public:
         done_[c] = 1;
         const std::size_t before = first_open_;
         while (first_open_ < done_.size() && done_[first_open_]) ++first_open_;
-        if (first_open_ > before && !getenv("NOREL")) released_ = release_pages(released_, chunk(first_open_));
+        if (first_open_ > before) released_ = release_pages(released_, chunk(first_open_));
     }
 
 private:
