@@ -2,6 +2,7 @@
 // all by cell sweeps (sweep.hpp): row sizes first, then every row written in place, so the
 // output does not depend on the thread count.
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -240,9 +241,16 @@ struct query_engine {
         const std::size_t chunks = std::max(parts, (rows + max_chunk - 1) / max_chunk);
         std::vector<std::size_t> bytes(chunks);
         const auto& kernels = sweep_for_cpu<T, D>();
-        for_each_chunk(rows, chunks, threads,
-                       [&](std::size_t c, std::size_t b, std::size_t e) { bytes[c] = kernels.kept_hit_bytes(g, job, b, e); });
-        if (std::accumulate(bytes.begin(), bytes.end(), std::size_t(0)) > budget_per_point * rows) return nullptr;
+        // Sizing looks up every stencil (a hashed grid's lookups cost as much as a count of
+        // sparse cells), so it stops where the bits cannot fit: a chunk at twice its share.
+        std::atomic<bool> over{false};
+        for_each_chunk(rows, chunks, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            if (over.load(std::memory_order_relaxed)) return;
+            const std::size_t limit = 2 * budget_per_point * (e - b);
+            bytes[c] = kernels.kept_hit_bytes(g, job, b, e, limit);
+            if (bytes[c] > limit) over = true;
+        });
+        if (over || std::accumulate(bytes.begin(), bytes.end(), std::size_t(0)) > budget_per_point * rows) return nullptr;
         parts = chunks;
         return std::make_unique<kept_hits>(bytes);
     }

@@ -75,9 +75,10 @@ struct sweep_kernels {
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// The bytes that count_kept keeps for the sorted points [b, e): one bit per candidate,
-    /// whole vectors per point.
-    std::size_t (*kept_hit_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// The bytes that count_kept keeps for the sorted points [b, e) (one bit per candidate,
+    /// whole vectors per point), or some number above `limit` once they exceed it.
+    std::size_t (*kept_hit_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e,
+                                  std::size_t limit);
     /// count for full rows (not half, no k nearest), keeping the hit bits in job.hits.
     void (*count_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// fill from the hit bits that count_kept kept for the same [b, e); rows without distances.

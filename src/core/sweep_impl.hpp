@@ -624,15 +624,16 @@ struct sweeper {
     /// One bit per candidate of a block, a word per vector.
     using hit_word = std::conditional_t<(kernel::L::n > 8), std::uint16_t, std::uint8_t>;
 
-    std::size_t kept_hit_bytes(std::size_t b, std::size_t e) {
-        std::size_t words = 0;
+    std::size_t kept_hit_bytes(std::size_t b, std::size_t e, std::size_t limit) {
+        std::size_t bytes = 0;
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+            if (bytes > limit) return;  // the caller gives up: no more stencil lookups
             nruns = g.stencil_runs(cell, runs, width);
             std::uint32_t total = 0;
             for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
-            words += std::size_t(ge - gb) * (candidate_block<T, D>::padded_size(total) / kernel::L::n);
+            bytes += std::size_t(ge - gb) * (candidate_block<T, D>::padded_size(total) / kernel::L::n) * sizeof(hit_word);
         });
-        return words * sizeof(hit_word);
+        return bytes;
     }
 
     /// count for full rows, keeping the hit bits of every vector in job.hits.
@@ -716,8 +717,8 @@ void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size
     with_sweeper(g, job, [&](auto& s) { s.fill(b, e); });
 }
 template <class T, int D>
-std::size_t kept_hit_bytes(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    return with_sweeper(g, job, [&](auto& s) { return s.kept_hit_bytes(b, e); });
+std::size_t kept_hit_bytes(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e, std::size_t limit) {
+    return with_sweeper(g, job, [&](auto& s) { return s.kept_hit_bytes(b, e, limit); });
 }
 template <class T, int D>
 void count_kept(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
