@@ -231,9 +231,10 @@ struct query_engine {
 
     /// Full rows without distances can skip the second round of distance tests: the count
     /// sweep keeps the hit bits and the fill writes the ids they select (W1 lists at 1M points,
-    /// 2 threads: 114 -> 96 ms, into a reused output 99 -> 77). Returns their store, cut into chunks of at most 32,768 points
-    /// (`parts` becomes their number), when the bits take at most 32 bytes per point (W1 on
-    /// AVX-512 takes 28); null otherwise (dense or clustered points), leaving `parts` alone.
+    /// 2 threads: 114 -> 96 ms, into a reused output 99 -> 77). Returns their store, cut into
+    /// chunks of at most 32,768 points (`parts` becomes their number), when the bits take at
+    /// most 32 bytes per point (W1 on AVX-512 takes 28); null otherwise (dense or clustered
+    /// points), leaving `parts` alone.
     std::unique_ptr<kept_hits> plan_kept_hits(const sweep_job<T>& job, std::size_t rows, std::size_t& parts) const {
         constexpr std::size_t budget_per_point = 32, max_chunk = 32768;
         if (rows == 0) return nullptr;
