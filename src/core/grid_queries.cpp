@@ -212,10 +212,10 @@ struct query_engine {
         fill_rows(out, job, o.distances, parts, kept.get());
     }
 
-    /// Whether the rows of a list are ones whose hit bits the count sweep can keep: full rows
-    /// (not half, not the k nearest) in block order or sorted by index, without distances.
+    /// Whether the rows of a list are ones whose hit bits the count sweep can keep: rows (full
+    /// or half, not the k nearest) in block order or sorted by index, without distances.
     static bool keeps_hits(const list_options& o, std::size_t k_nearest) {
-        return !o.half && k_nearest == 0 && !o.distances && o.order != row_order::distance;
+        return k_nearest == 0 && !o.distances && o.order != row_order::distance;
     }
 
     /// The count sweep of a list: row sizes into job.counts, keeping the hit bits if `kept`.
@@ -229,7 +229,7 @@ struct query_engine {
         });
     }
 
-    /// Full rows without distances can skip the second round of distance tests: the count
+    /// Rows without distances can skip the second round of distance tests: the count
     /// sweep keeps the hit bits and the fill writes the ids they select (W1 lists at 1M points,
     /// 2 threads: 114 -> 96 ms, into a reused output 99 -> 77). Returns their store, cut into
     /// chunks of at most 32,768 points (`parts` becomes their number), when the bits take at

@@ -272,21 +272,38 @@ struct point_kernel {
         return n;
     }
 
-    /// Candidates within r, but for block position `skip` (no_id: none): returns how many and
-    /// writes the bits of the hits of each vector of the block, one word per vector, to bits.
-    template <class Word>
-    std::uint32_t keep_hits(const candidate_block<T, D>& b, std::uint32_t skip, Word* __restrict bits) const {
+    /// The candidates within r that `f` lets into the row (ById: f.lo applies; the block
+    /// needs its ids then): returns how many and writes the bits of the hits of each vector
+    /// of the block, one word per vector, to bits (zero for vectors wholly before f.from).
+    template <bool ById, class Word>
+    std::uint32_t keep_hits(const candidate_block<T, D>& b, const candidate_filter& f, Word* __restrict bits) const {
         const T* c[D];
         for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
         const std::uint32_t padded = b.padded;
+        const std::uint32_t first = f.from / L::n * L::n;
+        for (std::uint32_t k = 0; k < first; k += L::n) bits[k / L::n] = 0;
         std::uint32_t n = 0;
-        for (std::uint32_t k = 0; k < padded; k += L::n) {
+        for (std::uint32_t k = first; k < padded; k += L::n) {
             std::uint32_t m = L::le_bits(d2(c, k), limit);
-            if (skip - k < std::uint32_t(L::n)) m &= ~(1u << (skip - k));
+            if (k < f.from) m &= ~0u << (f.from - k);
+            if (f.skip - k < std::uint32_t(L::n)) m &= ~(1u << (f.skip - k));
+            if constexpr (ById) m &= ids_at_least(b.id.data() + k, f.lo);
             bits[k / L::n] = Word(m);
             n += std::uint32_t(__builtin_popcount(m));
         }
         return n;
+    }
+
+    /// Bits of the lanes of a vector of ids that are at least lo.
+    static std::uint32_t ids_at_least(const std::uint32_t* ids, std::uint32_t lo) {
+#if FRNN_SWEEP_BYTES == 64
+        if constexpr (L::n == 16) return _mm512_cmpge_epu32_mask(_mm512_loadu_si512(ids), _mm512_set1_epi32(int(lo)));
+        if constexpr (L::n == 8)
+            return _mm256_cmpge_epu32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids)), _mm256_set1_epi32(int(lo)));
+#endif
+        std::uint32_t m = 0;
+        for (int l = 0; l < L::n; ++l) m |= std::uint32_t(ids[l] >= lo) << l;
+        return m;
     }
 
     /// Writes the ids (and squared distances) of the candidates within r that `f` lets into
@@ -636,19 +653,22 @@ struct sweeper {
         return bytes;
     }
 
-    /// count for full rows, keeping the hit bits of every vector in job.hits.
+    /// The count sweep of a list, keeping the hit bits of every vector in job.hits.
     void count_kept(std::size_t b, std::size_t e) {
         auto* bits = reinterpret_cast<hit_word*>(job.hits);
+        const bool by_id = filter_by_id();
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             nruns = g.stencil_runs(cell, runs, width);
-            block.gather(g, runs, nruns, nullptr, false);
+            block.gather(g, runs, nruns, job.ids, by_id);
             const bool wrap = wraps(cell);
             const std::uint32_t first = job.queries ? 0 : block_position(gb);
             const std::uint32_t vectors = block.padded / kernel::L::n;
             for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
                 const auto x = point(s);
                 const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
-                job.counts[job.queries ? id(s) : s] = kern.keep_hits(block, job.self ? no_id : first + (s - gb), bits);
+                const candidate_filter f = filter(s, first + (s - gb));
+                job.counts[job.queries ? id(s) : s] =
+                    by_id ? kern.template keep_hits<true>(block, f, bits) : kern.template keep_hits<false>(block, f, bits);
             }
         });
     }
@@ -657,17 +677,22 @@ struct sweeper {
     void fill_kept(std::size_t b, std::size_t e) {
         const auto* next = reinterpret_cast<const hit_word*>(job.hits);
         const std::vector<std::uint64_t> starts = scattered_row_starts(b, e);
+        // Half rows in id order by block position: the vectors before the point's hold no hit.
+        const bool from_position = job.half && !job.queries && positions_in_id_order();
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             nruns = g.stencil_runs(cell, runs, width);
             block.gather_ids(runs, nruns, job.ids);
             const std::uint32_t padded = block.padded;
             const std::uint32_t* __restrict ids = block.id.data();
+            const std::uint32_t first = from_position ? block_position(gb) : 0;
             // A local cursor: a captured one would be reloaded after every store.
             const hit_word* __restrict bits = next;
-            for (std::uint32_t s = gb; s < ge; ++s) {
+            for (std::uint32_t s = gb; s < ge; ++s, bits += padded / kernel::L::n) {
                 std::uint32_t* __restrict out = job.indices + row_start(starts, s, b, e);
                 std::uint32_t n = 0;
-                for (std::uint32_t k = 0; k < padded; k += kernel::L::n) n += store_hits<kernel::L::n>(out + n, *bits++, ids + k);
+                const std::uint32_t from = from_position ? filter(s, first + (s - gb)).from / kernel::L::n * kernel::L::n : 0;
+                for (std::uint32_t k = from; k < padded; k += kernel::L::n)
+                    n += store_hits<kernel::L::n>(out + n, bits[k / kernel::L::n], ids + k);
                 if (job.order == row_order::index && !std::is_sorted(out, out + n)) std::sort(out, out + n);
             }
             next = bits;
