@@ -79,7 +79,7 @@ struct sweep_kernels {
     /// whole vectors per point), or some number above `limit` once they exceed it.
     std::size_t (*kept_hit_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e,
                                   std::size_t limit);
-    /// count for full rows (not half, no k nearest), keeping the hit bits in job.hits.
+    /// count for rows without k nearest (full or half), keeping the hit bits in job.hits.
     void (*count_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// fill from the hit bits that count_kept kept for the same [b, e); rows without distances.
     void (*fill_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
