@@ -246,9 +246,11 @@ struct point_kernel {
         // Vectors wholly at or before pos hold no candidate: start at the one holding pos + 1.
         const std::uint32_t first = (pos + 1) / L::n * L::n;
 #if FRNN_SWEEP_BYTES == 64
-        for (std::uint32_t k = first; k < padded; k += L::n) {
-            std::uint32_t m0 = L::le_bits(d2(c, k), limit);
-            if (k <= pos) m0 &= ~0u << (pos - k + 1);
+        // Only the first vector may hold pos: its mask is computed before the loop, which
+        // then has no check per vector.
+        std::uint32_t keep_first = ~0u << (pos + 1 - first);
+        for (std::uint32_t k = first; k < padded; k += L::n, keep_first = ~0u) {
+            const std::uint32_t m0 = L::le_bits(d2(c, k), limit) & keep_first;
             if constexpr (sizeof(T) == 4) {
                 const __mmask16 m = __mmask16(m0);
                 const __m512i a = _mm512_loadu_si512(acc + k);
@@ -283,14 +285,21 @@ struct point_kernel {
         const std::uint32_t first = f.from / L::n * L::n;
         for (std::uint32_t k = 0; k < first; k += L::n) bits[k / L::n] = 0;
         std::uint32_t n = 0;
+        // The filter's positions are cleared after the loop, which then needs no check per
+        // vector.
         for (std::uint32_t k = first; k < padded; k += L::n) {
             std::uint32_t m = L::le_bits(d2(c, k), limit);
-            if (k < f.from) m &= ~0u << (f.from - k);
-            if (f.skip - k < std::uint32_t(L::n)) m &= ~(1u << (f.skip - k));
             if constexpr (ById) m &= ids_at_least(b.id.data() + k, f.lo);
             bits[k / L::n] = Word(m);
             n += std::uint32_t(__builtin_popcount(m));
         }
+        auto clear = [&](std::uint32_t vector, std::uint32_t drop) {
+            const std::uint32_t m = bits[vector];
+            n -= std::uint32_t(__builtin_popcount(m & drop));
+            bits[vector] = Word(m & ~drop);
+        };
+        if (f.from > first && first < padded) clear(first / L::n, ~(~0u << (f.from - first)));
+        if (f.skip >= f.from && f.skip < padded) clear(f.skip / L::n, 1u << (f.skip % L::n));
         return n;
     }
 
