@@ -48,6 +48,14 @@ inline constexpr std::size_t max_runs = 729;
 /// Extra values after the last sorted coordinate, so vector loads never leave the array.
 inline constexpr std::size_t coordinate_padding = 16;
 
+/// Hashed grid: which of 32 table slots hold points (bit k for slot 32 w + k), and how many
+/// slots before them do. An occupied slot's index among the occupied ones is one popcount away,
+/// so the table stores a start only per occupied slot (4 bytes each, not 4 per slot).
+struct occupied_slots {
+    std::uint32_t bits;
+    std::uint32_t before;
+};
+
 /// The inverse of a grid's permutation, computed on first use: most uses never need it, so the
 /// build neither writes it nor keeps its 4 bytes per point. Safe to call concurrently.
 class lazy_inverse {
@@ -179,7 +187,9 @@ public:
     /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).
     bool points_inside_box() const { return inside_box_; }
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
-    /// x + nx * (y + ny * z). Slot c holds the sorted points [cell_starts()[c], cell_starts()[c + 1]).
+    /// x + nx * (y + ny * z). Uniform grid: cell c holds the sorted points
+    /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table
+    /// slots only, in slot order, then size().
     std::array<std::int64_t, 3> cells_per_axis() const { return dims_; }
     std::span<const std::uint32_t> cell_starts() const { return offsets_; }
     /// Distance squared between x and sorted point j, with the minimum image when periodic.
@@ -234,7 +244,23 @@ private:
     void sort_into_cells(std::span<const T> coords);
     /// Slots of the input points [b, e) of `coords` into out[0, e - b).
     void input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const;
+    void index_cells();
+    void index_occupied_slots();
     void mark_mixed_slots();
+    /// Hashed grid: the index of table slot s among the occupied slots, or empty_slot.
+    std::uint32_t occupied_index(std::size_t s) const {
+        const detail::occupied_slots w = occupied_[s / 32];
+        const std::uint32_t bit = 1u << (s % 32);
+        if (!(w.bits & bit)) return empty_slot;
+        return w.before + bit_count(w.bits & (bit - 1));
+    }
+    /// Set bits of v, inline: std::popcount is a library call on CPUs without popcnt.
+    static std::uint32_t bit_count(std::uint32_t v) {
+        v -= (v >> 1) & 0x55555555u;
+        v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+        return (((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+    }
+    static constexpr std::uint32_t empty_slot = 0xFFFFFFFFu;
     bool cells_sorted(std::uint32_t begin, std::uint32_t end) const;
     void group_cells(std::uint32_t begin, std::uint32_t end);
     std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
@@ -262,8 +288,9 @@ private:
     std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis
     buffer<std::uint32_t> perm_;            // sorted -> original
     detail::lazy_inverse inverse_;          // original -> sorted, on first use
-    std::vector<std::uint32_t> offsets_;    // slots_ + 1 run starts
-    std::vector<std::uint64_t> mixed_;      // hashed: bit per slot holding points of several cells
+    std::vector<std::uint32_t> offsets_;    // run starts: of the slots_ cells, or of the occupied slots (hashed); then size()
+    std::vector<detail::occupied_slots> occupied_;  // hashed: slots_ / 32 words
+    std::vector<std::uint64_t> mixed_;      // hashed: bit per occupied slot holding points of several cells
 
     // Build scratch, kept for rebuilds.
     std::vector<std::uint32_t> thread_counts_;

@@ -140,7 +140,7 @@ std::size_t grid<T, D>::memory_bytes() const {
     std::size_t bytes = 0;
     for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
     bytes += (perm_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t) + inverse_.capacity_bytes();
-    bytes += mixed_.capacity() * sizeof(std::uint64_t);
+    bytes += mixed_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slots);
     return bytes;
 }
 
@@ -308,15 +308,17 @@ std::uint32_t grid<T, D>::slot_of_cell(const std::array<std::int64_t, 3>& c) con
 
 template <class T, int D>
 std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
-    const std::uint32_t slot = slot_of_cell(cell_of(sorted_point(s)));
-    if (kind_ == grid_kind::hashed && (mixed_[slot / 64] >> (slot % 64) & 1)) {
+    const auto cell = cell_of(sorted_point(s));
+    const std::uint32_t slot = slot_of_cell(cell);
+    if (kind_ != grid_kind::hashed) return offsets_[slot + 1];
+    const std::uint32_t k = occupied_index(slot);  // occupied: point s lies in it
+    if (mixed_[k / 64] >> (k % 64) & 1) {
         // A shared slot holds its cells one after the other (see group_cells).
-        const auto cell = cell_of(sorted_point(s));
         std::uint32_t e = s + 1;
-        while (e < offsets_[slot + 1] && hashed_point_in_cell(e, cell)) ++e;
+        while (e < offsets_[k + 1] && hashed_point_in_cell(e, cell)) ++e;
         return e;
     }
-    return offsets_[slot + 1];
+    return offsets_[k + 1];
 }
 
 template <class T, int D>
@@ -429,7 +431,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
                 perm_[dst] = std::uint32_t(i);
             });
         });
-        mark_mixed_slots();
+        index_cells();
         return;
     }
     struct record {
@@ -451,7 +453,50 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
             perm_[s] = records[s].index;
         }
     });
+    index_cells();
+}
+
+// After the scatter: the hashed grid's table keeps starts for its occupied slots only; then
+// shared slots are marked and cells counted.
+template <class T, int D>
+void grid<T, D>::index_cells() {
+    if (kind_ == grid_kind::hashed) index_occupied_slots();
+    else occupied_ = {};
     mark_mixed_slots();
+}
+
+// Hashed grid: the bits of occupied slots with their counts, and the starts of those slots
+// only, in slot order (the scatter's starts of every slot are freed).
+template <class T, int D>
+void grid<T, D>::index_occupied_slots() {
+    const int threads = detail::resolve_threads(options_.threads);
+    const std::size_t words = slots_ / 32;  // slots_ is a power of 2, at least 64
+    occupied_.resize(words);
+    const std::size_t parts = detail::chunk_count(words, threads, 1 << 10);
+    std::vector<std::uint32_t> before(parts + 1, 0);
+    detail::for_each_chunk(words, parts, threads, [&](std::size_t c, std::size_t wb, std::size_t we) {
+        std::uint32_t count = 0;
+        for (std::size_t w = wb; w < we; ++w) {
+            const std::uint32_t* start = offsets_.data() + w * 32;
+            std::uint32_t bits = 0;
+            for (int k = 0; k < 32; ++k) bits |= std::uint32_t(start[k + 1] > start[k]) << k;
+            occupied_[w] = {bits, count};  // counted within the chunk; the chunk's base follows
+            count += std::uint32_t(std::popcount(bits));
+        }
+        before[c + 1] = count;
+    });
+    for (std::size_t c = 0; c < parts; ++c) before[c + 1] += before[c];
+    std::vector<std::uint32_t> starts(before[parts] + 1);
+    detail::for_each_chunk(words, parts, threads, [&](std::size_t c, std::size_t wb, std::size_t we) {
+        for (std::size_t w = wb; w < we; ++w) {
+            occupied_[w].before += before[c];
+            std::uint32_t k = occupied_[w].before;
+            for (std::uint32_t bits = occupied_[w].bits; bits; bits &= bits - 1)
+                starts[k++] = offsets_[w * 32 + std::size_t(std::countr_zero(bits))];
+        }
+    });
+    starts[before[parts]] = std::uint32_t(size());
+    offsets_.swap(starts);
 }
 
 // Orders the points of a hash slot shared by several cells by cell (stable).
@@ -490,13 +535,15 @@ template <class T, int D>
 void grid<T, D>::mark_mixed_slots() {
     const int threads = detail::resolve_threads(options_.threads);
     const bool hashed = kind_ == grid_kind::hashed;
-    mixed_.assign(hashed ? (slots_ + 63) / 64 : 0, 0);
-    const std::size_t words = (slots_ + 63) / 64;
-    const std::size_t parts = detail::chunk_count(words, threads, 1 << 10);
+    const std::size_t runs = offsets_.size() - 1;  // cells, or occupied slots (hashed)
+    mixed_.assign(hashed ? (runs + 63) / 64 : 0, 0);
+    const std::size_t words = (runs + 63) / 64;
+    // Hashed runs are occupied slots, some of them shared and sorted here: smaller chunks.
+    const std::size_t parts = detail::chunk_count(words, threads, hashed ? 4 : 1 << 10);
     std::vector<std::size_t> nonempty(parts, 0);
     detail::for_each_chunk(words, parts, threads, [&](std::size_t c, std::size_t wb, std::size_t we) {
         std::size_t count = 0;
-        for (std::size_t s = wb * 64; s < std::min(we * 64, slots_); ++s) {
+        for (std::size_t s = wb * 64; s < std::min(we * 64, runs); ++s) {
             const std::uint32_t b = offsets_[s], e = offsets_[s + 1];
             if (b == e) continue;
             if (!hashed) {
@@ -601,9 +648,10 @@ std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool f
 template <class T, int D>
 std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std::array<std::int64_t, 3>& cell) const {
     const std::size_t s = (detail::row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & (slots_ - 1);
-    std::uint32_t b = offsets_[s], e = offsets_[s + 1];
-    if (b == e) return {b, b};
-    if (mixed_[s / 64] >> (s % 64) & 1) {
+    const std::uint32_t k = occupied_index(s);
+    if (k == empty_slot) return {0, 0};
+    std::uint32_t b = offsets_[k], e = offsets_[k + 1];
+    if (mixed_[k / 64] >> (k % 64) & 1) {
         // A shared slot holds its cells one after the other, ordered by cell coordinates
         // (mark_mixed_slots): two binary searches find the cell's points.
         auto first_failing = [](std::uint32_t lo, std::uint32_t hi, auto&& pred) {

@@ -64,9 +64,7 @@ TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_sh
     frnn::grid<double, 3> g(p, 0.8, o);
     std::set<std::array<std::int64_t, 3>> cells;
     for (std::size_t i = 0; i < 3000; ++i) cells.insert(g.cell_of({p[3 * i], p[3 * i + 1], p[3 * i + 2]}));
-    const auto starts = g.cell_starts();
-    std::size_t occupied = 0;
-    for (std::size_t s = 0; s + 1 < starts.size(); ++s) occupied += starts[s + 1] > starts[s];
+    const std::size_t occupied = g.cell_starts().size() - 1;  // one start per occupied slot
     ASSERT_LT(occupied + 500, cells.size());  // many slots are shared
     EXPECT_EQ(g.nonempty_cells(), cells.size());
     const auto ref = frnn::brute_force_lists<double, 3>(p, p, 0.8, true);
@@ -83,6 +81,35 @@ TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_sh
 // Cells of r/4 on a lattice fill one cell in 8: 8 cells per point, twice the budget of cells
 // of size r. The automatic kind must still pick the uniform grid (the hashed grid would look
 // up 729 cells per point, nearly all empty), and stay exact.
+// A hashed grid over clustered points: its table holds a start per occupied slot only, so the
+// structure beyond the points and their permutation stays well under a byte per point (a start
+// per slot took 4).
+TEST(grid_basics, hashed_grid_of_clusters_keeps_starts_of_occupied_slots_only) {
+    const std::size_t n = 1 << 16;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> centre(0, 1e4);
+    std::normal_distribution<double> spread(0, 0.5);
+    std::vector<double> centres(8 * 3), p(n * 3);
+    for (auto& v : centres) v = centre(rng);
+    for (std::size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) p[i * 3 + a] = centres[(i % 8) * 3 + a] + spread(rng);
+    frnn::grid_options o;
+    o.kind = frnn::grid_kind::hashed;
+    frnn::grid<double, 3> g(p, 1.0, o);
+    ASSERT_GE(g.cell_count(), n);
+    // One start per occupied slot (a few slots hold two cells).
+    EXPECT_LE(g.cell_starts().size() - 1, g.nonempty_cells());
+    EXPECT_GT(g.cell_starts().size() - 1, g.nonempty_cells() * 9 / 10);
+    const std::size_t points = (n + frnn::detail::coordinate_padding) * 3 * sizeof(double) + n * sizeof(std::uint32_t);
+    EXPECT_LT(g.memory_bytes() - points, n);
+    // The same after a rebuild over other points: the table of every slot is built and freed again.
+    std::reverse(p.begin(), p.end());
+    g.rebuild(p);
+    EXPECT_LT(g.memory_bytes() - points, n);
+    const auto first = frnn::brute_force_lists<double, 3>(std::span(p).first(3), p, 1.0, true);
+    EXPECT_EQ(g.count_neighbors()[0], first.size());
+}
+
 TEST(grid_basics, small_cells_on_a_dense_lattice_keep_the_uniform_grid) {
     std::vector<double> p;
     std::mt19937_64 rng(5);
