@@ -481,7 +481,7 @@ void grid<T, D>::index_occupied_slots() {
             std::uint32_t bits = 0;
             for (int k = 0; k < 32; ++k) bits |= std::uint32_t(start[k + 1] > start[k]) << k;
             occupied_[w] = {bits, count};  // counted within the chunk; the chunk's base follows
-            count += std::uint32_t(std::popcount(bits));
+            count += bit_count(bits);
         }
         before[c + 1] = count;
     });

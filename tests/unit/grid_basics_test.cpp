@@ -78,9 +78,6 @@ TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_sh
     EXPECT_EQ(g.count_neighbors(), sizes);
 }
 
-// Cells of r/4 on a lattice fill one cell in 8: 8 cells per point, twice the budget of cells
-// of size r. The automatic kind must still pick the uniform grid (the hashed grid would look
-// up 729 cells per point, nearly all empty), and stay exact.
 // A hashed grid over clustered points: its table holds a start per occupied slot only, so the
 // structure beyond the points and their permutation stays well under a byte per point (a start
 // per slot took 4).
@@ -110,6 +107,9 @@ TEST(grid_basics, hashed_grid_of_clusters_keeps_starts_of_occupied_slots_only) {
     EXPECT_EQ(g.count_neighbors()[0], first.size());
 }
 
+// Cells of r/4 on a lattice fill one cell in 8: 8 cells per point, twice the budget of cells
+// of size r. The automatic kind must still pick the uniform grid (the hashed grid would look
+// up 729 cells per point, nearly all empty), and stay exact.
 TEST(grid_basics, small_cells_on_a_dense_lattice_keep_the_uniform_grid) {
     std::vector<double> p;
     std::mt19937_64 rng(5);
