@@ -73,6 +73,17 @@ private:
     mutable buffer<std::uint32_t> map_;
     mutable std::atomic<bool> ready_{false};
 };
+
+/// Memory a grid keeps between its builds for their scratch (the system may take it back in
+/// between, see free_lazily). A copy of the grid starts without it.
+struct build_scratch {
+    buffer<std::byte> bytes;
+    build_scratch() = default;
+    build_scratch(const build_scratch&) {}
+    build_scratch& operator=(const build_scratch&) { return *this; }
+    build_scratch(build_scratch&&) = default;
+    build_scratch& operator=(build_scratch&&) = default;
+};
 }  // namespace detail
 
 template <class T, int D>
@@ -294,6 +305,7 @@ private:
 
     // Build scratch, kept for rebuilds.
     std::vector<std::uint32_t> thread_counts_;
+    detail::build_scratch records_;  // the scatter's records of input in random order
 };
 
 template <class T, int D>

@@ -8,6 +8,7 @@
 
 #include "core/hashing.hpp"
 #include "core/sweep.hpp"
+#include "cpu/page_release.hpp"
 #include "cpu/parallel.hpp"
 #include "frnn/grid.hpp"
 
@@ -438,7 +439,12 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         T x[D];
         std::uint32_t index;
     };
-    buffer<record> records(n);
+    // The records' memory is kept for the next rebuild, which saves the system's zeroing of
+    // fresh pages; after the build the system may take it back when short of memory.
+    buffer<std::byte>& scratch = records_.bytes;
+    if (scratch.capacity() < n * sizeof(record)) scratch = buffer<std::byte>();  // no copy
+    scratch.resize(n * sizeof(record));
+    record* records = reinterpret_cast<record*>(scratch.data());
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         std::uint32_t* next = thread_counts_.data() + c * slots_;
         for_each_slot(b, e, [&](std::size_t i, std::uint32_t s) {
@@ -453,6 +459,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
             perm_[s] = records[s].index;
         }
     });
+    detail::free_lazily(scratch.data(), scratch.data() + scratch.size());
     index_cells();
 }
 

@@ -61,16 +61,37 @@ void deallocate_large(void* p, std::size_t bytes) noexcept {
 #endif
 }
 
-std::byte* release_pages(std::byte* begin, std::byte* end) noexcept {
-#if defined(__linux__) && defined(MADV_DONTNEED)
+namespace {
+/// madvise(advice) over the whole huge pages inside [begin, end); the end of that range if the
+/// call succeeded, else begin.
+[[maybe_unused]] std::byte* advise_huge_pages(std::byte* begin, std::byte* end, int advice) noexcept {
+#if defined(__linux__)
     const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(begin) + huge_page - 1) / huge_page * huge_page;
     const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(end) / huge_page * huge_page;
-    if (last > first && madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED) == 0)
+    if (last > first && madvise(reinterpret_cast<void*>(first), last - first, advice) == 0)
         return begin + (last - reinterpret_cast<std::uintptr_t>(begin));
 #else
-    (void)end;
+    (void)end, (void)advice;
 #endif
     return begin;
+}
+}  // namespace
+
+std::byte* release_pages(std::byte* begin, std::byte* end) noexcept {
+#if defined(__linux__) && defined(MADV_DONTNEED)
+    return advise_huge_pages(begin, end, MADV_DONTNEED);
+#else
+    (void)end;
+    return begin;
+#endif
+}
+
+void free_lazily(std::byte* begin, std::byte* end) noexcept {
+#if defined(__linux__) && defined(MADV_FREE)
+    advise_huge_pages(begin, end, MADV_FREE);
+#else
+    (void)begin, (void)end;
+#endif
 }
 
 }  // namespace frnn::detail

@@ -10,4 +10,10 @@ namespace frnn::detail {
 /// such call).
 std::byte* release_pages(std::byte* begin, std::byte* end) noexcept;
 
+/// Lets the system take back the whole huge pages inside [begin, end) of a block from
+/// allocate_large when it needs memory, but keeps them until then: their contents become
+/// unspecified, and writing them again costs nothing while they are still there (scratch
+/// kept between uses). Does nothing where the system offers no such call.
+void free_lazily(std::byte* begin, std::byte* end) noexcept;
+
 }  // namespace frnn::detail
