@@ -177,6 +177,26 @@ std::uint32_t store_hits(std::uint32_t* __restrict out, std::uint32_t bits, cons
     return n;
 }
 
+/// store_hits of two consecutive vectors. Both are compressed before either is stored, so
+/// that the second compress does not wait behind the first store.
+template <int Lanes>
+std::uint32_t store_hit_pair(std::uint32_t* __restrict out, std::uint32_t bits0, std::uint32_t bits1,
+                             const std::uint32_t* __restrict ids) {
+#if FRNN_SWEEP_BYTES == 64
+    if constexpr (Lanes == 16) {
+        const auto n0 = std::uint32_t(__builtin_popcount(bits0));
+        const auto n1 = std::uint32_t(__builtin_popcount(bits1));
+        const __m512i c0 = _mm512_maskz_compress_epi32(__mmask16(bits0), _mm512_loadu_si512(ids));
+        const __m512i c1 = _mm512_maskz_compress_epi32(__mmask16(bits1), _mm512_loadu_si512(ids + 16));
+        _mm512_mask_storeu_epi32(out, __mmask16((1u << n0) - 1), c0);
+        _mm512_mask_storeu_epi32(out + n0, __mmask16((1u << n1) - 1), c1);
+        return n0 + n1;
+    }
+#endif
+    const std::uint32_t n0 = store_hits<Lanes>(out, bits0, ids);
+    return n0 + store_hits<Lanes>(out + n0, bits1, ids + Lanes);
+}
+
 /// Which candidates of a block enter a point's row: those at block positions from `from` on,
 /// except position `skip` (the point itself), and, where the kernel is asked to, with id >= lo.
 struct candidate_filter {
@@ -700,8 +720,11 @@ struct sweeper {
                 std::uint32_t* __restrict out = job.indices + row_start(starts, s, b, e);
                 std::uint32_t n = 0;
                 const std::uint32_t from = from_position ? filter(s, first + (s - gb)).from / kernel::L::n * kernel::L::n : 0;
-                for (std::uint32_t k = from; k < padded; k += kernel::L::n)
-                    n += store_hits<kernel::L::n>(out + n, bits[k / kernel::L::n], ids + k);
+                constexpr std::uint32_t lanes = kernel::L::n;
+                std::uint32_t k = from;
+                for (; k + 2 * lanes <= padded; k += 2 * lanes)
+                    n += store_hit_pair<lanes>(out + n, bits[k / lanes], bits[k / lanes + 1], ids + k);
+                if (k < padded) n += store_hits<lanes>(out + n, bits[k / lanes], ids + k);
                 if (job.order == row_order::index && !std::is_sorted(out, out + n)) std::sort(out, out + n);
             }
             next = bits;
