@@ -305,7 +305,7 @@ private:
 
     // Build scratch, kept for rebuilds.
     std::vector<std::uint32_t> thread_counts_;
-    detail::build_scratch records_;  // the scatter's records of input in random order
+    detail::build_scratch scratch_;  // the build's slots of the input points, records of input in random order
 };
 
 template <class T, int D>

@@ -377,29 +377,38 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     offsets_.assign(slots_ + 1, 0);
     thread_counts_.assign(parts * slots_, 0);
 
-    // Calls f(i, slot of i) for the input points [b, e). Slots are computed in batches, in
-    // both passes, rather than stored: that is cheaper than writing and reading them back.
-    auto for_each_slot = [&](std::size_t b, std::size_t e, auto&& f) {
-        constexpr std::size_t batch = 256;
-        std::uint32_t slot[batch];
-        for (std::size_t i0 = b; i0 < e; i0 += batch) {
-            const std::size_t m = std::min(batch, e - i0);
-            input_slots(coords.data(), i0, i0 + m, slot);
-            for (std::size_t k = 0; k < m; ++k) f(i0 + k, slot[k]);
-        }
+    struct record {
+        T x[D];
+        std::uint32_t index;
     };
-    // 1. Insert: per-chunk counts of every cell, and how many points fall in the cell of the
-    // point before them or the next one (input already in cell order, or nearly).
+    // Scratch: the slot of every input point, written by the insert pass and read by the
+    // scatter (cheaper than computing it twice), then room for the records of input in random
+    // order (step 4), whose pages are touched only if used. The memory is kept for the next
+    // rebuild, which saves the system's zeroing of fresh pages; after the build the system
+    // may take it back when short of memory.
+    const std::size_t slot_bytes = (n * sizeof(std::uint32_t) + 63) / 64 * 64;
+    buffer<std::byte>& scratch = scratch_.bytes;
+    if (scratch.capacity() < slot_bytes + n * sizeof(record)) scratch = buffer<std::byte>();  // no copy
+    scratch.resize(slot_bytes + n * sizeof(record));
+    std::uint32_t* const slot_of = reinterpret_cast<std::uint32_t*>(scratch.data());
+    record* const records = reinterpret_cast<record*>(scratch.data() + slot_bytes);
+
+    // 1. Insert: the slots (in vector code, a batch at a time), per-chunk counts of every
+    // cell, and how many points fall in the cell of the point before them or the next one
+    // (input already in cell order, or nearly).
     std::vector<std::size_t> local(parts, 0);
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+        constexpr std::size_t batch = 256;
+        for (std::size_t i = b; i < e; i += batch) input_slots(coords.data(), i, std::min(e, i + batch), slot_of + i);
         std::uint32_t* counts = thread_counts_.data() + c * slots_;
         std::uint32_t prev = 0;
         std::size_t near = 0;
-        for_each_slot(b, e, [&](std::size_t, std::uint32_t s) {
+        for (std::size_t i = b; i < e; ++i) {
+            const std::uint32_t s = slot_of[i];
             near += s - prev <= 1;
             prev = s;
             ++counts[s];
-        });
+        }
         local[c] = near;
     });
     // 2. Per cell: start of each chunk inside the cell, and the cell's total.
@@ -426,39 +435,30 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     if (2 * near >= n) {
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
             std::uint32_t* next = thread_counts_.data() + c * slots_;
-            for_each_slot(b, e, [&](std::size_t i, std::uint32_t s) {
+            for (std::size_t i = b; i < e; ++i) {
+                const std::uint32_t s = slot_of[i];
                 const std::uint32_t dst = offsets_[s] + next[s]++;
                 for (int a = 0; a < D; ++a) pos_[a][dst] = coords[i * D + a];
                 perm_[dst] = std::uint32_t(i);
-            });
+            }
         });
-        index_cells();
-        return;
+    } else {
+        detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            std::uint32_t* next = thread_counts_.data() + c * slots_;
+            for (std::size_t i = b; i < e; ++i) {
+                const std::uint32_t s = slot_of[i];
+                record& r = records[offsets_[s] + next[s]++];
+                for (int a = 0; a < D; ++a) r.x[a] = coords[i * D + a];
+                r.index = std::uint32_t(i);
+            }
+        });
+        detail::for_each_chunk(n, detail::chunk_count(n, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
+            for (std::size_t s = b; s < e; ++s) {
+                for (int a = 0; a < D; ++a) pos_[a][s] = records[s].x[a];
+                perm_[s] = records[s].index;
+            }
+        });
     }
-    struct record {
-        T x[D];
-        std::uint32_t index;
-    };
-    // The records' memory is kept for the next rebuild, which saves the system's zeroing of
-    // fresh pages; after the build the system may take it back when short of memory.
-    buffer<std::byte>& scratch = records_.bytes;
-    if (scratch.capacity() < n * sizeof(record)) scratch = buffer<std::byte>();  // no copy
-    scratch.resize(n * sizeof(record));
-    record* records = reinterpret_cast<record*>(scratch.data());
-    detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-        std::uint32_t* next = thread_counts_.data() + c * slots_;
-        for_each_slot(b, e, [&](std::size_t i, std::uint32_t s) {
-            record& r = records[offsets_[s] + next[s]++];
-            for (int a = 0; a < D; ++a) r.x[a] = coords[i * D + a];
-            r.index = std::uint32_t(i);
-        });
-    });
-    detail::for_each_chunk(n, detail::chunk_count(n, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
-        for (std::size_t s = b; s < e; ++s) {
-            for (int a = 0; a < D; ++a) pos_[a][s] = records[s].x[a];
-            perm_[s] = records[s].index;
-        }
-    });
     detail::free_lazily(scratch.data(), scratch.data() + scratch.size());
     index_cells();
 }
