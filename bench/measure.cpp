@@ -19,15 +19,6 @@ double median(std::vector<double> values) {
     return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
 }
 
-void map_large_blocks_alone() {
-#if defined(__GLIBC__)
-    // A fixed threshold also turns off glibc's rising one, under which large blocks freed by
-    // a thread stay in the top of that thread's heap, where malloc_trim does not reach.
-    mallopt(M_MMAP_THRESHOLD, 256 * 1024);
-    mallopt(M_TRIM_THRESHOLD, 1024 * 1024);
-#endif
-}
-
 bool reset_peak_rss() {
 #if defined(__GLIBC__)
     malloc_trim(0);  // give back what earlier methods freed, so it does not count for this one

@@ -264,7 +264,6 @@ report run(const config& cfg) {
     for (const auto& [id, sizes] : cfg.workload_sizes)
         if (std::find(cfg.workloads.begin(), cfg.workloads.end(), id) == cfg.workloads.end())
             throw error("bench: --n gives sizes for " + id + ", which --workload does not select");
-    map_large_blocks_alone();
     // Resolve every workload and size before the first (long) measurement.
     std::vector<std::pair<const workload*, std::size_t>> plan;
     for (const auto& id : cfg.workloads) {

@@ -56,10 +56,6 @@ measurement measure(int repeat, F&& once) {
     return m;
 }
 
-/// Makes glibc map each heap block of 256 KiB or more on its own and unmap it when freed, so
-/// that what one method (for instance a baseline's per-thread lists) freed is not still
-/// resident, and counted, while the next one runs. Called once before the measurements.
-void map_large_blocks_alone();
 /// Returns freed heap memory to the system (glibc), then resets the process's peak RSS to its
 /// current RSS (Linux /proc/self/clear_refs); false when the kernel refuses, in which case
 /// peak_rss_bytes() is the peak since the process started.

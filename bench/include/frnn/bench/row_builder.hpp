@@ -1,6 +1,9 @@
 // Neighbor counts and CSR lists assembled from a per-row visitor, for the baselines.
 // Rows are split into one contiguous block per thread; each block fills its own buffer and the
-// buffers are joined in row order, so the output is identical for any thread count.
+// buffers are joined in row order, so the output is identical for any thread count. The
+// buffers are frnn::buffer: from 2 MiB on they are mapped on their own and unmapped when
+// freed. As std::vector they grew in each worker thread's heap, which malloc_trim does not
+// shrink, and stayed resident into the next method's peak RSS (28 MiB after W1 at 262K).
 // O(N + pairs) beyond the visits; memory: the lists twice at the peak (buffers + result).
 // Include only from files compiled with OpenMP; `visit` must be safe to call concurrently.
 #pragma once
@@ -10,6 +13,7 @@
 #include <exception>
 #include <vector>
 
+#include "frnn/buffer.hpp"
 #include "frnn/csr.hpp"
 
 namespace frnn::bench::detail {
@@ -53,7 +57,7 @@ csr<T> lists_from_rows(std::size_t n, int threads, Visit&& visit) {
     threads = std::max(1, threads);
     csr<T> out;
     out.offsets.assign(n + 1, 0);
-    std::vector<std::vector<std::uint32_t>> parts(static_cast<std::size_t>(threads));
+    std::vector<buffer<std::uint32_t>> parts(static_cast<std::size_t>(threads));
     for_row_blocks(n, threads, [&](int b, std::size_t lo, std::size_t hi) {
         auto& part = parts[std::size_t(b)];
         for (std::size_t i = lo; i < hi; ++i) {
