@@ -98,15 +98,10 @@ struct query_engine {
         fill_rows(out, job, o.distances, parts, kept.get());
     }
 
-    /// Neighbor counts of the grid's own points at their sorted positions (the point itself
-    /// included when `self`), or of query points by query index.
-    std::vector<std::uint32_t> counts(std::span<const T> queries, bool from_queries, bool self) const {
-        const std::size_t rows = from_queries ? queries.size() / D : g.size();
+    /// Neighbor counts of query points by query index.
+    std::vector<std::uint32_t> query_counts(std::span<const T> queries) const {
+        const std::size_t rows = queries.size() / D;
         std::vector<std::uint32_t> out(rows);
-        if (!from_queries) {
-            full_counts(out.data(), self);
-            return out;
-        }
         const auto order = queries_by_cell(queries);
         sweep_job<T> job;
         job.self = true;
@@ -150,7 +145,9 @@ struct query_engine {
             }
         }
         const std::uint32_t start = self ? 1 : 0;
-        std::fill(counts, counts + rows, start);
+        // In parallel: the array may be fresh memory, whose page faults take longer than the fill.
+        for_each_chunk(rows, chunk_count(rows, threads, 1 << 15), threads,
+                       [&](std::size_t, std::size_t b, std::size_t e) { std::fill(counts + b, counts + e, start); });
         if (g.kind() != grid_kind::uniform) {
             // Hashed: the partners of a cell lie anywhere in memory, so each thread adds their
             // counts into its own array, summed at the end (integers: the same for any order).
@@ -294,9 +291,15 @@ struct query_engine {
 template <class T, int D>
 std::vector<std::uint32_t> grid<T, D>::count_neighbors(index_space space) const {
     detail::query_engine<T, D> q(*this);
-    std::vector<std::uint32_t> sorted = q.counts({}, false, false);
-    if (space == index_space::sorted) return sorted;
-    // Scattered to the caller's order (a permutation: threads write distinct elements).
+    if (space == index_space::sorted) {
+        std::vector<std::uint32_t> out(size());
+        q.full_counts(out.data(), false);
+        return out;
+    }
+    // Counted into an uninitialized array (the result's own zero-fill is serial), then
+    // scattered to the caller's order (a permutation: threads write distinct elements).
+    buffer<std::uint32_t> sorted(size());
+    q.full_counts(sorted.data(), false);
     std::vector<std::uint32_t> out(size());
     const int threads = q.threads;
     detail::for_each_chunk(size(), detail::chunk_count(size(), threads, 1 << 15), threads,
@@ -337,7 +340,7 @@ template <class T, int D>
 std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T> queries) const {
     detail::query_engine<T, D> q(*this);
     validate_queries(queries);
-    return q.counts(queries, true, false);
+    return q.query_counts(queries);
 }
 
 template <class T, int D>
