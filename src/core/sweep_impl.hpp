@@ -28,12 +28,17 @@ template <class U>
 void copy_padded(U* __restrict dst, const U* __restrict src, std::uint32_t n) {
     for (std::uint32_t j = 0; j < n; j += FRNN_SWEEP_BYTES / sizeof(U)) std::memcpy(dst + j, src + j, FRNN_SWEEP_BYTES);
 }
-/// The same for an unpadded source: whole vectors, then the tail one by one.
+/// The same for an unpadded source: whole vectors, then the tail (by a masked load at the
+/// AVX-512 level, which reads nothing past n; one by one at the others).
 inline void copy_ids(std::uint32_t* __restrict dst, const std::uint32_t* __restrict src, std::uint32_t n) {
     constexpr std::uint32_t w = FRNN_SWEEP_BYTES / 4;
     std::uint32_t j = 0;
     for (; j + w <= n; j += w) std::memcpy(dst + j, src + j, FRNN_SWEEP_BYTES);
+#if FRNN_SWEEP_BYTES == 64
+    if (j < n) _mm512_storeu_si512(dst + j, _mm512_maskz_loadu_epi32(__mmask16(~(~0u << (n - j))), src + j));
+#else
     for (; j < n; ++j) dst[j] = src[j];
+#endif
 }
 /// dst[j] = first + j for j < n, writing up to one vector past n.
 inline void count_up(std::uint32_t* __restrict dst, std::uint32_t first, std::uint32_t n) {
