@@ -479,9 +479,10 @@ struct pair_counter {
         bool first;            // whether this is the first run
     };
 
+    // counts and partners may be one array (the uniform grid's): no __restrict on them.
     template <bool Wrap>
-    void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns,
-               std::uint32_t* __restrict counts, std::uint32_t* __restrict partners) const {
+    void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns, std::uint32_t* counts,
+               std::uint32_t* partners) const {
         const T* x[D];
         for (int a = 0; a < D; ++a) x[a] = g.sorted_coords(a) + gb;
         for (std::size_t r = 0; r < nruns; ++r) {
@@ -506,8 +507,8 @@ struct pair_counter {
 
     /// The group's points (coordinates x) against the candidates at run positions [k, k + Lanes).
     template <bool Wrap, int Lanes>
-    void test_vector(const T* const* x, std::uint32_t points, const run_view& v, std::uint32_t k,
-                     std::uint32_t* __restrict counts, std::uint32_t* __restrict partners) const {
+    void test_vector(const T* const* x, std::uint32_t points, const run_view& v, std::uint32_t k, std::uint32_t* counts,
+                     std::uint32_t* partners) const {
         using V = tally_lanes<T, Lanes>;
         using vec = typename V::vec;
         // Lanes past the run hold other points (or the arrays' padding): never hits.
