@@ -253,6 +253,9 @@ private:
     void validate_queries(std::span<const T> queries) const;
     void configure(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
+    void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::size_t parts);
+    template <class Record>
+    void store_records(const Record* records, std::size_t begin, std::size_t count);
     /// Slots of the input points [b, e) of `coords` into out[0, e - b).
     void input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const;
     void index_cells();
