@@ -72,5 +72,27 @@ TEST(OracleLarge, UniformFloat2D) {
     large_case<float, 2>(uniform_points<float, 2>(600000, 0, 800, 308), 1.0f, {}, 309);
 }
 
+// Adversarial for the buckets: two crowded spots far apart, the input alternating between
+// them (no point in the cell of the one before). The first spot is one cell: one bucket
+// holds half the points.
+// Too many pairs for the oracle: the structure only, at 1 to 3 threads.
+TEST(OracleLarge, TwoCrowdedSpotsAlternating) {
+    std::vector<float> pts(450000 * 3);
+    std::mt19937_64 rng(310);
+    std::uniform_real_distribution<float> u(0.0f, 0.5f);
+    for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = u(rng) + ((i / 3) % 2 ? 40.0f : 0.0f);
+    std::vector<std::uint32_t> first;
+    for (int threads : {1, 2, 3}) {
+        grid_options opt;
+        opt.threads = threads;
+        const grid<float, 3> g(pts, 1.0f, opt);
+        ASSERT_EQ((check_structure<float, 3>(g, pts)), "") << threads << " threads";
+        ASSERT_LE(g.nonempty_cells(), 16u);
+        const auto perm = g.sorted_to_original();
+        if (first.empty()) first.assign(perm.begin(), perm.end());
+        ASSERT_TRUE(std::equal(first.begin(), first.end(), perm.begin())) << threads << " threads";
+    }
+}
+
 }  // namespace
 }  // namespace frnn::test
