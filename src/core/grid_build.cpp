@@ -544,7 +544,10 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
         for (std::size_t k = kb; k < ke; ++k) {
             const std::size_t s0 = first_slot[k], s1 = first_slot[k + 1];
             const std::uint32_t b = offsets_[s0], m = offsets_[s1] - b;
-            if (m == 0) continue;
+            // Points of one cell only are in order already: pass (a) kept the input's order.
+            std::size_t filled = 0;
+            for (std::size_t s = s0; s < s1 && filled < 2; ++s) filled += offsets_[s + 1] > offsets_[s];
+            if (filled < 2) continue;
             for (std::uint32_t j = 0; j < m; ++j)
                 for (int a = 0; a < D; ++a) xs[j * D + a] = pos_[a][b + j];
             input_slots(xs.get(), 0, m, slots.get());

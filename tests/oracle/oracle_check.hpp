@@ -230,12 +230,15 @@ std::string check_structure(const grid<T, D>& g, std::span<const T> coords) {
                 return "sorted_coord(" + std::to_string(s) + ") differs from the input point";
     }
     if (g.kind() == grid_kind::automatic) return "kind() reports automatic";
-    // The sort is stable: within each cell the points keep the caller's order.
+    // Each point lies in the cell of its run (whose end it finds), and the sort is stable:
+    // within each cell the points keep the caller's order.
     for (std::uint32_t s = 0; s < n;) {
         const std::uint32_t e = g.cell_group_end(s);
         if (e <= s || e > n) return "cell_group_end(" + std::to_string(s) + ") = " + std::to_string(e);
-        for (std::uint32_t j = s + 1; j < e; ++j)
+        for (std::uint32_t j = s + 1; j < e; ++j) {
+            if (g.cell_group_end(j) != e) return "sorted point " + std::to_string(j) + " lies outside its run's cell";
             if (perm[j] < perm[j - 1]) return "points of a cell out of the caller's order at " + std::to_string(j);
+        }
         s = e;
     }
     return {};
