@@ -253,7 +253,8 @@ private:
     void validate_queries(std::span<const T> queries) const;
     void configure(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
-    void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::size_t parts);
+    void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,
+                            std::size_t parts);
     template <class Record>
     void store_records(const Record* records, std::size_t begin, std::size_t count);
     /// Slots of the input points [b, e) of `coords` into out[0, e - b).
@@ -308,7 +309,7 @@ private:
 
     // Build scratch, kept for rebuilds.
     std::vector<std::uint32_t> thread_counts_;
-    detail::build_scratch scratch_;  // the build's slots of the input points, records of input in random order
+    detail::build_scratch scratch_;  // the build's slots of the input points, then records or slots by bucket
 };
 
 template <class T, int D>

@@ -29,8 +29,9 @@ constexpr double max_uniform_cells = 0x1p31;
 // pass: they stay in the last-level cache (measured with 32 MiB: at 4 MiB the one pass takes
 // two thirds of the time of the two-pass scatter by buckets, at 8 MiB and more longer).
 constexpr std::size_t cached_scatter_bytes = std::size_t(6) << 20;
-// Points per bucket of the two-pass scatter: a bucket's copies (32 bytes per point in float
-// 3D) stay in the L2 cache, and the first pass writes to few enough buckets at a time.
+// Points per bucket of the two-pass scatter: a bucket's records and its range of the arrays
+// (32 bytes per point in float 3D) stay in the L2 cache, and the first pass writes to few
+// enough buckets at a time.
 constexpr std::size_t bucket_points = 8192;
 
 // A point on its way through a scatter: one write instead of D + 1.
@@ -403,16 +404,18 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     thread_counts_.assign(parts * slots_, 0);
 
     // Scratch: the slot of every input point, written by the insert pass and read by the
-    // scatter (cheaper than computing it twice), then room for the records of input in random
-    // order that fits the cache (step 4), whose pages are touched only if used. The memory is
-    // kept for the next rebuild, which saves the system's zeroing of fresh pages; after the
-    // build the system may take it back when short of memory.
+    // scatter (cheaper than computing it twice), then room for step 4 with input in random
+    // order: the records of input that fits the cache, or the slots of larger input in bucket
+    // order (pages touched only if used). The memory is kept for the next rebuild, which
+    // saves the system's zeroing of fresh pages; after the build the system may take it back
+    // when short of memory.
     using record = point_record<T, D>;
     const std::size_t slot_bytes = (n * sizeof(std::uint32_t) + 63) / 64 * 64;
     const std::size_t record_bytes = n * sizeof(record) <= cached_scatter_bytes ? n * sizeof(record) : 0;
+    const std::size_t extra = record_bytes > 0 ? record_bytes : n * sizeof(std::uint32_t);
     buffer<std::byte>& scratch = scratch_.bytes;
-    if (scratch.capacity() < slot_bytes + record_bytes) scratch = buffer<std::byte>();  // no copy
-    scratch.resize(slot_bytes + record_bytes);
+    if (scratch.capacity() < slot_bytes + extra) scratch = buffer<std::byte>();  // no copy
+    scratch.resize(slot_bytes + extra);
     std::uint32_t* const slot_of = reinterpret_cast<std::uint32_t*>(scratch.data());
 
     // 1. Insert: the slots (in vector code, a batch at a time), per-chunk counts of every
@@ -479,7 +482,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         detail::for_each_chunk(n, detail::chunk_count(n, threads, 1 << 15), threads,
                                [&](std::size_t, std::size_t b, std::size_t e) { store_records(records + b, b, e - b); });
     } else {
-        scatter_by_buckets(coords, slot_of, parts);
+        scatter_by_buckets(coords, slot_of, reinterpret_cast<std::uint32_t*>(scratch.data() + slot_bytes), parts);
     }
     detail::free_lazily(scratch.data(), scratch.data() + scratch.size());
     index_cells();
@@ -487,11 +490,12 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
 
 // The scatter of input in random order, in two passes whose writes stay in cache:
 // (a) each chunk of the input scatters its points by bucket (a range of consecutive cells
-// with about bucket_points points) straight into the arrays, a few hundred write streams,
-// stably: chunk c's points after chunk c-1's in every bucket; (b) each bucket is copied out
-// and scattered back by cell, within its own range of the arrays.
+// with about bucket_points points) straight into the arrays, and their slots to
+// bucket_slots, a few hundred write streams, stably: chunk c's points after chunk c-1's in
+// every bucket; (b) each bucket is sorted by cell, within its own range of the arrays.
 template <class T, int D>
-void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::size_t parts) {
+void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,
+                                     std::size_t parts) {
     const std::size_t n = coords.size() / D;
     const int threads = detail::resolve_threads(options_.threads);
     // Buckets are cut between groups of 2^shift slots, small groups (a sixteenth of a bucket
@@ -525,20 +529,19 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
             next[k] = start;
         }
         for (std::size_t i = b; i < e; ++i) {
-            const std::uint32_t dst = next[bucket_of[slot_of[i] >> shift]]++;
+            const std::uint32_t slot = slot_of[i];
+            const std::uint32_t dst = next[bucket_of[slot >> shift]]++;
             for (int a = 0; a < D; ++a) pos_[a][dst] = coords[i * D + a];
             perm_[dst] = std::uint32_t(i);
+            bucket_slots[dst] = slot;
         }
     });
-    // (b) By cell, within each bucket: its points are copied out (interleaved, as the slot
-    // kernels read them), their slots computed again, and each point goes as one record to
-    // its place in a local array, which is then split into the bucket's range of the arrays.
+    // (b) By cell, within each bucket: each point goes as one record to its place in a local
+    // array, which is then split into the bucket's range of the arrays.
     using record = point_record<T, D>;
     const std::size_t bucket_parts = detail::chunk_count(buckets, threads, 1);
     detail::for_each_chunk(buckets, bucket_parts, threads, [&](std::size_t, std::size_t kb, std::size_t ke) {
         // Uninitialized: every element used is written first.
-        const auto xs = std::make_unique_for_overwrite<T[]>(largest * D);
-        const auto slots = std::make_unique_for_overwrite<std::uint32_t[]>(largest);
         const auto sorted = std::make_unique_for_overwrite<record[]>(largest);
         std::vector<std::uint32_t> next;
         for (std::size_t k = kb; k < ke; ++k) {
@@ -548,15 +551,12 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
             std::size_t filled = 0;
             for (std::size_t s = s0; s < s1 && filled < 2; ++s) filled += offsets_[s + 1] > offsets_[s];
             if (filled < 2) continue;
-            for (std::uint32_t j = 0; j < m; ++j)
-                for (int a = 0; a < D; ++a) xs[j * D + a] = pos_[a][b + j];
-            input_slots(xs.get(), 0, m, slots.get());
             next.resize(s1 - s0);
             for (std::size_t s = s0; s < s1; ++s) next[s - s0] = offsets_[s] - b;
-            for (std::uint32_t j = 0; j < m; ++j) {
-                record& r = sorted[next[slots[j] - s0]++];
-                for (int a = 0; a < D; ++a) r.x[a] = xs[j * D + a];
-                r.index = perm_[b + j];
+            for (std::uint32_t j = b; j < b + m; ++j) {
+                record& r = sorted[next[bucket_slots[j] - s0]++];
+                for (int a = 0; a < D; ++a) r.x[a] = pos_[a][j];
+                r.index = perm_[j];
             }
             store_records(sorted.get(), b, m);
         }
