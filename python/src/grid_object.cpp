@@ -136,55 +136,32 @@ grid_object::grid_object(const py::object& points, double radius, const grid_arg
     build_into(g_, a, radius, options_);
 }
 
-/// Pairs i < j (caller's indices) sorted lexicographically, as 2*M int64 values. The search runs
-/// in cell order, where "each pair once" is the cheap test j > s on sorted indices (half the
-/// distance tests of a full search); a counting sort on the smaller index then orders the pairs.
+/// Pairs i < j (caller's indices) sorted lexicographically, as 2*M int64 values. The half lists
+/// in the caller's numbering (row i holds the j > i) with rows sorted by index are already in
+/// that order: no sort of the pairs, only a copy into the (M, 2) layout, rows in parallel.
 template <class T, int D>
-static std::unique_ptr<std::int64_t[]> sorted_pairs(const grid<T, D>& g, std::size_t& m) {
+static buffer<std::int64_t> sorted_pairs(const grid<T, D>& g) {
     list_options o;
     o.half = true;
-    o.space = index_space::sorted;
+    o.order = row_order::index;
     const csr<T> c = g.neighbor_lists(o);
-    const auto perm = g.sorted_to_original();
-    const std::size_t n = g.size();
-    m = c.size();
-    // Row starts of the smaller index: count, then exclusive scan.
-    std::vector<std::uint64_t> start(n + 1, 0);
-    for (std::size_t s = 0; s < n; ++s)
-        for (auto k = c.offsets[s]; k < c.offsets[s + 1]; ++k)
-            ++start[std::min(perm[s], perm[c.indices[k]]) + 1];
-    for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-    // Scatter the larger index into its row, then sort each (short) row.
-    std::vector<std::uint32_t> larger(m);
-    {
-        std::vector<std::uint64_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t s = 0; s < n; ++s)
-            for (auto k = c.offsets[s]; k < c.offsets[s + 1]; ++k) {
-                const std::uint32_t a = perm[s], b = perm[c.indices[k]];
-                larger[fill[std::min(a, b)]++] = std::max(a, b);
-            }
-    }
-    // Not zero-filled: every value is written once, rows in parallel.
-    std::unique_ptr<std::int64_t[]> p(new std::int64_t[2 * m]);
-    const auto rows = std::int64_t(n);
-#pragma omp parallel for schedule(dynamic, 4096) num_threads(g.threads())
-    for (std::int64_t i = 0; i < rows; ++i) {
-        const auto row = larger.begin() + std::ptrdiff_t(start[i]);
-        std::sort(row, row + std::ptrdiff_t(start[i + 1] - start[i]));
-        for (auto k = start[i]; k < start[i + 1]; ++k) {
+    buffer<std::int64_t> p(2 * c.size());  // not zero-filled: every value is written once
+    const auto rows = std::int64_t(g.size());
+#pragma omp parallel for schedule(static, 4096) num_threads(g.threads())
+    for (std::int64_t i = 0; i < rows; ++i)
+        for (auto k = c.offsets[std::size_t(i)]; k < c.offsets[std::size_t(i) + 1]; ++k) {
             p[2 * k] = i;
-            p[2 * k + 1] = larger[k];
+            p[2 * k + 1] = c.indices[k];
         }
-    }
     return p;
 }
 
 py::array grid_object::query_pairs() const {
     return std::visit(
         [&](auto& g) {
-            std::size_t m = 0;
-            auto pairs = read([&] { return sorted_pairs(g, m); });
-            return to_numpy(std::move(pairs), {py::ssize_t(m), 2});
+            auto pairs = read([&] { return sorted_pairs(g); });
+            const auto m = py::ssize_t(pairs.size() / 2);
+            return to_numpy(std::move(pairs), {m, 2});
         },
         g_);
 }

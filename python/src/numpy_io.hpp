@@ -90,13 +90,4 @@ py::array to_numpy(std::vector<V, A>&& v, std::vector<py::ssize_t> shape = {}) {
     return py::array_t<E>(shape, data, owner);
 }
 
-/// Same for a bare array of `count` values (for outputs that skip a vector's zero-filling).
-template <class V>
-py::array to_numpy(std::unique_ptr<V[]> data, std::vector<py::ssize_t> shape) {
-    V* raw = data.get();
-    py::capsule owner(raw, [](void* p) { delete[] static_cast<V*>(p); });
-    data.release();  // the capsule deletes it from now on
-    return py::array_t<V>(shape, raw, owner);
-}
-
 }  // namespace frnn::python
