@@ -1,6 +1,7 @@
 // Brute-force O(N*M) reference search: the oracle every grid query is tested against, and
 // the O(N^2) baseline of the benchmarks. Single-threaded, header-only; distances use exactly
-// the grid's formula (minimum image when `periodic` is non-empty), so decisions at |d| == r agree.
+// the grid's formula (minimum image when `periodic` is non-empty) and its search scale for
+// extreme radii (frnn/search_scale.hpp), so decisions at |d| == r agree.
 #pragma once
 #include <array>
 #include <cmath>
@@ -9,9 +10,12 @@
 #include <vector>
 
 #include "frnn/csr.hpp"
+#include "frnn/search_scale.hpp"
 
 namespace frnn {
 
+/// Squared distance in the caller's units, without the search scale: exact only while the
+/// squares stay within T's range (distance_test is exact for all finite input).
 template <class T, int D>
 T brute_distance_squared(const T* a, const T* b, std::span<const double> periodic = {}) {
     T d2 = 0;
@@ -26,22 +30,23 @@ T brute_distance_squared(const T* a, const T* b, std::span<const double> periodi
     return d2;
 }
 
-/// Row q: every data index j with |queries_q - data_j| <= r, increasing j. When `exclude_same`
-/// (queries are the data), j == q is left out.
+/// Row q: every data index j with |queries_q - data_j| <= r, increasing j, with distances.
+/// When `exclude_same` (queries are the data), j == q is left out. The search scale is the
+/// grid's: from the radius, the data and the box.
 template <class T, int D>
 csr<T> brute_force_lists(std::span<const T> queries, std::span<const T> data, T radius,
                          bool exclude_same, std::span<const double> periodic = {}) {
     csr<T> out;
     const std::size_t nq = queries.size() / D, nd = data.size() / D;
-    const T r2 = radius * radius;
+    const distance_test<T, D> test(radius, search_scale<T>(radius, largest_magnitude<T>(data, periodic)), periodic);
     out.offsets.assign(nq + 1, 0);
     for (std::size_t q = 0; q < nq; ++q) {
         for (std::size_t j = 0; j < nd; ++j) {
             if (exclude_same && j == q) continue;
-            const T d2 = brute_distance_squared<T, D>(&queries[q * D], &data[j * D], periodic);
-            if (d2 <= r2) {
+            T d2;
+            if (test.within(&queries[q * D], &data[j * D], d2)) {
                 out.indices.push_back(std::uint32_t(j));
-                out.distances.push_back(std::sqrt(d2));
+                out.distances.push_back(test.distance(d2));
             }
         }
         out.offsets[q + 1] = out.indices.size();

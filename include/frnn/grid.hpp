@@ -13,6 +13,13 @@
 // table sized from N, so far outliers cost nothing. Hash collisions are verified by cell
 // coordinates and never change a result.
 //
+// Extreme radii (r^2 beyond T's range, see frnn/search_scale.hpp) are searched with every
+// coordinate, the radius and the box multiplied by a power of two, so that no square overflows
+// or underflows; the answer is exact and the same as for ordinary radii.
+//
+// A build that throws leaves the grid as it was when the input was invalid (every check runs
+// before anything changes), and empty (size() == 0) after std::bad_alloc.
+//
 // Results are deterministic: identical, bit for bit, for any thread count.
 // Thread safety: const member functions may be called concurrently; build/rebuild may not run
 // concurrently with anything else on the same grid.
@@ -29,6 +36,7 @@
 #include "frnn/csr.hpp"
 #include "frnn/error.hpp"
 #include "frnn/options.hpp"
+#include "frnn/search_scale.hpp"
 
 namespace frnn {
 
@@ -74,6 +82,25 @@ private:
     mutable std::atomic<bool> ready_{false};
 };
 
+/// A grid's geometry, in search space (the caller's units times `scale`), as a build chooses
+/// it before any member changes (see grid::plan).
+template <class T>
+struct grid_layout {
+    grid_kind kind = grid_kind::uniform;  ///< never automatic
+    bool periodic = false;
+    bool inside_box = false;           ///< periodic: all points in [0, L) per axis
+    int reach = 1;                     ///< cells visited on each side
+    std::array<double, 3> origin{};    ///< lower corner of cell (0,0,0)
+    std::array<double, 3> cell{};      ///< effective cell edge per axis
+    std::array<double, 3> inv_cell{};
+    std::array<std::int64_t, 3> dims{1, 1, 1};  ///< cells per axis (uniform grid)
+    std::array<T, 3> box{};            ///< periodic box lengths
+    std::size_t slots = 0;             ///< cells (uniform) or table slots (hashed, a power of 2)
+    T scale = 1;                       ///< search scale (frnn/search_scale.hpp)
+    T search_radius = 0;               ///< radius * scale
+    double far_bound = INFINITY;       ///< hashed: query coordinates beyond +-this have no neighbors
+};
+
 /// Memory a grid keeps between its builds for their scratch (the system may take it back in
 /// between, see free_lazily). A copy of the grid starts without it.
 struct build_scratch {
@@ -105,30 +132,40 @@ public:
 
     std::size_t size() const { return perm_.size(); }
     T radius() const { return radius_; }
-    grid_kind kind() const { return kind_; }          ///< uniform or hashed, never automatic
-    double cell_size(int axis = 0) const { return cell_[axis]; }
-    int reach() const { return reach_; }              ///< cells visited on each side
-    std::size_t cell_count() const { return slots_; } ///< cells (uniform) or table slots (hashed)
+    grid_kind kind() const { return layout_.kind; }          ///< uniform or hashed, never automatic
+    double cell_size(int axis = 0) const { return layout_.cell[axis]; }
+    int reach() const { return layout_.reach; }              ///< cells visited on each side
+    std::size_t cell_count() const { return layout_.slots; } ///< cells (uniform) or table slots (hashed)
     std::size_t nonempty_cells() const { return nonempty_; }
     std::size_t memory_bytes() const;                 ///< bytes held by the structure
-    bool periodic() const { return periodic_; }
+    bool periodic() const { return layout_.periodic; }
     const grid_options& options() const { return options_; }
     int threads() const;
     void set_threads(int threads) { options_.threads = threads; }
+
+    /// The power of two by which coordinates, radius and box are multiplied for the search: 1
+    /// except for extreme radii (frnn/search_scale.hpp). "Search space" below means the
+    /// caller's coordinates times this.
+    T search_scale() const { return layout_.scale; }
+    T search_radius() const { return layout_.search_radius; }  ///< radius() * search_scale()
+    T search_box(int axis) const { return layout_.box[axis]; }  ///< periodic box length, search space
 
     /// sorted_to_original()[s] is the caller's index of the s-th point in cell order.
     std::span<const std::uint32_t> sorted_to_original() const { return perm_; }
     /// original_to_sorted()[i] is the position in cell order of the caller's point i. Computed
     /// on the first call after a build (4 bytes per point from then on).
     std::span<const std::uint32_t> original_to_sorted() const { return inverse_.get(perm_, threads()); }
-    /// Coordinate `axis` of the s-th point in cell order.
-    T sorted_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
-    /// All coordinates on `axis` in cell order (size() values, then detail::coordinate_padding zeros).
-    const T* sorted_coords(int axis) const { return pos_[axis].data(); }
+    /// Coordinate `axis` of the s-th point in cell order, as the caller gave it.
+    T sorted_coord(std::size_t s, int axis) const { return layout_.scale == 1 ? pos_[axis][s] : input_pos_[axis][s]; }
+    /// All coordinates on `axis` in cell order, in search space (size() values, then
+    /// detail::coordinate_padding zeros): the caller's when search_scale() is 1.
+    const T* search_coords(int axis) const { return pos_[axis].data(); }
+    T search_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
     /// Sorted points [s, end) lie in one cell and share their candidate runs.
     std::uint32_t cell_group_end(std::uint32_t s) const;
 
     /// Calls f(j, distance_squared) for every neighbor j of point i (caller's indices).
+    /// Squared distances beyond T's range (extreme radii only) read +infinity.
     template <class F>
     void for_each_neighbor(std::size_t i, F&& f) const {
         check_index(i);
@@ -149,8 +186,7 @@ public:
     /// Calls f(j, distance_squared) for every grid point j (caller's index) within r of x.
     template <class F>
     void for_each_neighbor_of(const point& x, F&& f) const {
-        check_query_point(x, 0);
-        for_each_near_sorted(x, [&](std::uint32_t j, T d2) { f(perm_[j], d2); });
+        for_each_near_sorted(search_point(x, 0), [&](std::uint32_t j, T d2) { f(perm_[j], d2); });
     }
 
     /// Number of neighbors of every point.
@@ -178,8 +214,8 @@ public:
     template <class U>
     void restore_order(std::span<U> data, std::size_t components = 1) const;
 
-    /// The runs of sorted points whose cells lie within reach of x (internal, but public so
-    /// that other backends and bindings can share one traversal).
+    /// The runs of sorted points whose cells lie within reach of x, in search space (internal,
+    /// but public so that other backends and bindings can share one traversal).
     std::size_t candidate_runs(const point& x, detail::candidate_run* out) const {
         return size() == 0 ? 0 : stencil_runs(cell_of(x), out);
     }
@@ -196,30 +232,41 @@ public:
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1) const;
     /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).
-    bool points_inside_box() const { return inside_box_; }
+    bool points_inside_box() const { return layout_.inside_box; }
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
     /// x + nx * (y + ny * z). Uniform grid: cell c holds the sorted points
     /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table
     /// slots only, in slot order, then size().
-    std::array<std::int64_t, 3> cells_per_axis() const { return dims_; }
+    std::array<std::int64_t, 3> cells_per_axis() const { return layout_.dims; }
     std::span<const std::uint32_t> cell_starts() const { return offsets_; }
-    /// Distance squared between x and sorted point j, with the minimum image when periodic.
+    /// Distance squared between x and sorted point j, in search space, with the minimum image
+    /// when periodic.
     T distance_squared_sorted(const point& x, std::uint32_t j) const {
         T d2 = 0;
         for (int a = 0; a < D; ++a) {
             T d = pos_[a][j] - x[a];
-            if (periodic_) d -= box_[a] * std::nearbyint(d / box_[a]);
+            if (layout_.periodic) d -= layout_.box[a] * std::nearbyint(d / layout_.box[a]);
             d2 += d * d;
         }
         return d2;
     }
-    /// Integer cell coordinates of x (clamped to the uniform grid, wrapped when periodic).
+    /// Integer cell coordinates of x, in search space (clamped to the uniform grid, wrapped
+    /// when periodic).
     std::array<std::int64_t, 3> cell_of(const point& x) const;
+    /// The caller's query point x in search space, checked (index: for the message). On the
+    /// hashed grid a coordinate beyond every point by more than the stencil is brought back to
+    /// that distance, where it still has no neighbors: cell keys stay in range.
+    point search_point(const point& x, std::size_t index) const {
+        check_query_point(x, index);
+        point y;
+        for (int a = 0; a < D; ++a) y[a] = T(std::clamp(double(x[a] * layout_.scale), -layout_.far_bound, layout_.far_bound));
+        return y;
+    }
     /// Hashed grid: whether sorted point j lies in `cell` (equals cell_of(point j) == cell, but
     /// inline: every cell lookup calls it, several times in slots shared by several cells).
     bool hashed_point_in_cell(std::uint32_t j, const std::array<std::int64_t, 3>& cell) const {
         for (int a = 0; a < D; ++a) {
-            const double v = double(pos_[a][j]) * inv_cell_[a];
+            const double v = double(pos_[a][j]) * layout_.inv_cell[a];
             const auto i = std::int64_t(v);  // floor(v): |v| < 2^52 is checked at build
             if (i - std::int64_t(double(i) > v) != cell[a]) return false;
         }
@@ -236,12 +283,13 @@ private:
     void for_each_near_sorted(const point& x, F&& f) const {
         detail::candidate_run runs[detail::max_runs];
         const std::size_t n = candidate_runs(x, runs);
-        const T r2 = radius_ * radius_;
+        const T r2 = layout_.search_radius * layout_.search_radius;
+        const T inv = T(1) / layout_.scale;
         for (std::size_t k = 0; k < n; ++k) {
             const auto& run = runs[k];
             for (std::uint32_t j = run.begin; j < run.end; ++j) {
                 const T d2 = distance_squared_sorted(x, j);
-                if (d2 <= r2) f(j, d2);
+                if (d2 <= r2) f(j, unscale_squared(d2, inv));
             }
         }
     }
@@ -250,8 +298,14 @@ private:
     }
     [[noreturn]] void throw_bad_index(std::size_t i) const;
     void check_query_point(const point& x, std::size_t index) const;
-    void validate_queries(std::span<const T> queries) const;
-    void configure(std::span<const T> coords);
+    /// Checks the queries and gives them in search space: `queries` itself, or a copy in
+    /// `storage` when they need scaling or bringing back (see search_point).
+    std::span<const T> search_queries(std::span<const T> queries, std::vector<T>& storage) const;
+    /// Validates a build's input and chooses its geometry, changing nothing; `scaled` receives
+    /// the coordinates in search space when the search scale is not 1.
+    detail::grid_layout<T> plan(std::span<const T> coords, T radius, const grid_options& options,
+                                std::vector<T>& scaled) const;
+    void clear();
     void sort_into_cells(std::span<const T> coords);
     void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,
                             std::size_t parts);
@@ -287,24 +341,16 @@ private:
     // Configuration.
     grid_options options_;
     T radius_ = 0;
-    grid_kind kind_ = grid_kind::uniform;
-    bool periodic_ = false;
-    bool inside_box_ = false;           // periodic: all points in [0, L) per axis
-    int reach_ = 1;
-    std::array<double, 3> origin_{};    // lower corner of cell (0,0,0)
-    std::array<double, 3> cell_{};      // effective cell edge per axis
-    std::array<double, 3> inv_cell_{};
-    std::array<std::int64_t, 3> dims_{1, 1, 1};  // cells per axis (uniform grid)
-    std::array<T, 3> box_{};            // periodic box lengths
-    std::size_t slots_ = 0;             // cells (uniform) or table slots (hashed, a power of 2)
+    detail::grid_layout<T> layout_;  // geometry: kind, cells, box, search scale
     std::size_t nonempty_ = 0;
 
     // Structure.
-    std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis
+    std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis, search space
+    std::array<buffer<T>, D> input_pos_;    // search scale not 1: the caller's coordinates in cell order
     buffer<std::uint32_t> perm_;            // sorted -> original
     detail::lazy_inverse inverse_;          // original -> sorted, on first use
-    std::vector<std::uint32_t> offsets_;    // run starts: of the slots_ cells, or of the occupied slots (hashed); then size()
-    std::vector<detail::occupied_slots> occupied_;  // hashed: slots_ / 32 words
+    std::vector<std::uint32_t> offsets_;    // run starts: of the cells, or of the occupied slots (hashed); then size()
+    std::vector<detail::occupied_slots> occupied_;  // hashed: layout_.slots / 32 words
     std::vector<std::uint64_t> mixed_;      // hashed: bit per occupied slot holding points of several cells
 
     // Build scratch, kept for rebuilds.

@@ -26,6 +26,8 @@ public:
     /// Takes the current coordinates (copied); returns true when the lists were rebuilt.
     bool update(std::span<const T> coords) {
         current_.assign(coords.begin(), coords.end());
+        test_ = distance_test<T, D>(radius_, search_scale<T>(radius_, largest_magnitude<T>(current_, options_.periodic)),
+                                    options_.periodic);
         if (built_ && coords.size() == reference_.size() && max_displacement() <= skin_ / 2) return false;
         grid_options o = options_;
         if (o.cell_size > 0) o.cell_size *= double(radius_ + skin_) / double(radius_);
@@ -42,10 +44,9 @@ public:
     /// Calls f(j, distance_squared) for every j within r of point i, at the last update's positions.
     template <class F>
     void for_each_neighbor(std::size_t i, F&& f) const {
-        const T r2 = radius_ * radius_;
         for (std::uint32_t j : lists_.row(i)) {
-            const T d2 = distance_squared(&current_[i * D], &current_[std::size_t(j) * D]);
-            if (d2 <= r2) f(j, d2);
+            T d2;
+            if (test_.within(&current_[i * D], &current_[std::size_t(j) * D], d2)) f(j, test_.distance_squared(d2));
         }
     }
     /// Candidates within r + skin at the last rebuild (caller's indices, rows sorted).
@@ -72,6 +73,7 @@ private:
 
     T radius_, skin_;
     grid_options options_;
+    distance_test<T, D> test_{T(1), T(1)};  // the test within r at the current positions
     grid<T, D> index_;
     csr<T> lists_;
     std::vector<T> current_, reference_;

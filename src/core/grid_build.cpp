@@ -116,19 +116,9 @@ void grid<T, D>::check_query_point(const point& x, std::size_t index) const {
         if (!std::isfinite(x[a]))
             throw error("query point " + std::to_string(index) + " has a non-finite coordinate (axis " +
                         std::to_string(a) + ")");
-    }
-    if (periodic_) {
-        for (int a = 0; a < D; ++a) {
-            if (std::abs(double(x[a])) >= double(box_[a]) * 0x1p30)
-                throw error("query point " + std::to_string(index) +
-                            " lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
-        }
-    } else if (kind_ == grid_kind::hashed) {
-        for (int a = 0; a < D; ++a) {
-            if (std::abs(double(x[a]) * inv_cell_[a]) >= max_cell_coordinate)
-                throw error("query point " + std::to_string(index) + " is too far out: coordinate " +
-                            fmt_double(double(x[a])) + " is more than 2^52 cells from the origin");
-        }
+        if (layout_.periodic && std::abs(double(x[a])) >= options_.periodic[a] * 0x1p30)
+            throw error("query point " + std::to_string(index) +
+                        " lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
     }
 }
 
@@ -137,16 +127,16 @@ std::array<std::int64_t, 3> grid<T, D>::cell_of(const point& x) const {
     std::array<std::int64_t, 3> c{0, 0, 0};
     for (int a = 0; a < D; ++a) {
         const double v = double(x[a]);
-        if (periodic_) {
-            const double box = double(box_[a]);
+        if (layout_.periodic) {
+            const double box = double(layout_.box[a]);
             double w = v - box * std::floor(v / box);
-            w = std::clamp(w * inv_cell_[a], 0.0, double(dims_[a] - 1));
+            w = std::clamp(w * layout_.inv_cell[a], 0.0, double(layout_.dims[a] - 1));
             c[a] = std::int64_t(w);
-        } else if (kind_ == grid_kind::uniform) {
-            const double u = std::clamp((v - origin_[a]) * inv_cell_[a], 0.0, double(dims_[a] - 1));
+        } else if (layout_.kind == grid_kind::uniform) {
+            const double u = std::clamp((v - layout_.origin[a]) * layout_.inv_cell[a], 0.0, double(layout_.dims[a] - 1));
             c[a] = std::int64_t(u);
         } else {
-            c[a] = floor_to_int(v * inv_cell_[a]);
+            c[a] = floor_to_int(v * layout_.inv_cell[a]);
         }
     }
     return c;
@@ -161,34 +151,35 @@ std::size_t grid<T, D>::memory_bytes() const {
     return bytes;
 }
 
-// Validates the input and chooses the geometry: kind, cell size, reach, dimensions.
+// Validates the input and chooses the geometry: search scale, kind, cell size, reach,
+// dimensions. Changes nothing, so that a build that throws leaves the grid as it was.
 template <class T, int D>
-void grid<T, D>::configure(std::span<const T> coords) {
-    const grid_options& o = options_;
-    const double r = double(radius_);
-    if (!std::isfinite(r) || r <= 0)
-        throw error("radius must be finite and > 0 (got " + fmt_double(r) + ")");
+detail::grid_layout<T> grid<T, D>::plan(std::span<const T> coords, T radius, const grid_options& o,
+                                        std::vector<T>& scaled) const {
+    detail::grid_layout<T> l;
+    if (!std::isfinite(radius) || radius <= 0)
+        throw error("radius must be finite and > 0 (got " + fmt_double(double(radius)) + ")");
     if (coords.size() % D != 0)
         throw error("coordinate array has " + std::to_string(coords.size()) +
                     " values, not a multiple of the dimension " + std::to_string(D));
     const std::size_t n = coords.size() / D;
     if (n >= std::numeric_limits<std::uint32_t>::max())
         throw error("too many points: " + std::to_string(n) + " (at most 2^32 - 2)");
-
-    const double asked = o.cell_size == 0 ? r : o.cell_size;
-    if (!std::isfinite(asked) || asked <= 0)
-        throw error("cell size must be finite and > 0 (got " + fmt_double(asked) + ")");
-    if (asked > r * (1 + 1e-12))
-        throw error("cell size " + fmt_double(asked) + " is larger than the radius " + fmt_double(r));
-    if (asked < r / 4 * (1 - 1e-12))
-        throw error("cell size " + fmt_double(asked) + " is smaller than radius/4 = " + fmt_double(r / 4));
-    const double cell = asked * cell_margin;
-    reach_ = int(std::ceil(r / cell));
+    const double user_r = double(radius);
+    if (o.cell_size != 0) {
+        const double asked = o.cell_size;
+        if (!std::isfinite(asked) || asked <= 0)
+            throw error("cell size must be finite and > 0 (got " + fmt_double(asked) + ")");
+        if (asked > user_r * (1 + 1e-12))
+            throw error("cell size " + fmt_double(asked) + " is larger than the radius " + fmt_double(user_r));
+        if (asked < user_r / 4 * (1 - 1e-12))
+            throw error("cell size " + fmt_double(asked) + " is smaller than radius/4 = " + fmt_double(user_r / 4));
+    }
+    const int threads = detail::resolve_threads(o.threads);
 
     // Finite coordinates, and the bounding box (first bad index reported).
     std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
     {
-        const int threads = detail::resolve_threads(o.threads);
         const std::size_t parts = detail::chunk_count(n, threads, 1 << 15);
         std::vector<std::size_t> first_bad(parts, n);
         std::vector<std::array<double, 6>> box(parts);
@@ -218,37 +209,62 @@ void grid<T, D>::configure(std::span<const T> coords) {
         }
     }
 
-    periodic_ = !o.periodic.empty();
-    inside_box_ = periodic_;
-    dims_ = {1, 1, 1};
-    if (periodic_) {
+    l.periodic = !o.periodic.empty();
+    if (l.periodic) {
         if (o.periodic.size() != std::size_t(D))
             throw error("periodic box needs " + std::to_string(D) + " lengths, got " +
                         std::to_string(o.periodic.size()));
-        double cells = 1;
         for (int a = 0; a < D; ++a) {
             const double box = o.periodic[a];
-            if (!std::isfinite(box) || box < 2 * r)
+            if (!std::isfinite(box) || box < 2 * user_r || box > double(std::numeric_limits<T>::max()))
                 throw error("periodic box length " + fmt_double(box) + " on axis " + std::to_string(a) +
-                            " is smaller than twice the radius (" + fmt_double(2 * r) + ")");
+                            " is smaller than twice the radius (" + fmt_double(2 * user_r) +
+                            ") or not a finite value of the points' type");
             if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
                 throw error("a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
-            box_[a] = T(box);
-            inside_box_ = inside_box_ && lo[a] >= 0 && hi[a] < double(box_[a]);
-            dims_[a] = std::max<std::int64_t>(1, std::int64_t(box / cell));
-            cells *= double(dims_[a]);
+        }
+    }
+
+    // The search scale: coordinates, radius, cell size and box in search space from here on.
+    T largest = 0;
+    for (int a = 0; a < D; ++a) largest = std::max(largest, T(std::max(std::abs(lo[a]), std::abs(hi[a]))));
+    largest = std::max(largest, largest_magnitude<T>({}, o.periodic));
+    l.scale = frnn::search_scale<T>(radius, largest);
+    l.search_radius = radius * l.scale;
+    if (l.scale != 1) {
+        scaled.resize(coords.size());
+        detail::for_each_chunk(coords.size(), detail::chunk_count(coords.size(), threads, 1 << 16), threads,
+                               [&](std::size_t, std::size_t b, std::size_t e) {
+                                   for (std::size_t i = b; i < e; ++i) scaled[i] = coords[i] * l.scale;
+                               });
+        coords = scaled;
+        for (int a = 0; a < D; ++a) lo[a] = double(T(lo[a]) * l.scale), hi[a] = double(T(hi[a]) * l.scale);
+    }
+    const double r = double(l.search_radius);
+    const double cell = (o.cell_size == 0 ? r : o.cell_size * double(l.scale)) * cell_margin;
+    l.reach = int(std::ceil(r / cell));
+
+    l.inside_box = l.periodic;
+    if (l.periodic) {
+        double cells = 1;
+        for (int a = 0; a < D; ++a) {
+            const double box = o.periodic[a] * double(l.scale);
+            l.box[a] = T(o.periodic[a]) * l.scale;
+            l.inside_box = l.inside_box && lo[a] >= 0 && hi[a] < double(l.box[a]);
+            l.dims[a] = std::max<std::int64_t>(1, std::int64_t(box / cell));
+            cells *= double(l.dims[a]);
         }
         // Very sparse periodic boxes get larger cells (still >= r, so reach still holds).
         const double cap = std::max(8.0 * double(n), 4096.0);
         if (cells > cap) {
             const double shrink = std::pow(cells / cap, 1.0 / D);
-            for (int a = 0; a < D; ++a) dims_[a] = std::max<std::int64_t>(1, std::int64_t(double(dims_[a]) / shrink));
+            for (int a = 0; a < D; ++a) l.dims[a] = std::max<std::int64_t>(1, std::int64_t(double(l.dims[a]) / shrink));
         }
-        kind_ = grid_kind::uniform;
+        l.kind = grid_kind::uniform;
         for (int a = 0; a < D; ++a) {
-            cell_[a] = double(box_[a]) / double(dims_[a]);
-            inv_cell_[a] = double(dims_[a]) / double(box_[a]);
-            origin_[a] = 0;
+            l.cell[a] = double(l.box[a]) / double(l.dims[a]);
+            l.inv_cell[a] = double(l.dims[a]) / double(l.box[a]);
+            l.origin[a] = 0;
         }
     } else {
         if (o.domain_min.empty() != o.domain_max.empty())
@@ -256,16 +272,19 @@ void grid<T, D>::configure(std::span<const T> coords) {
         if (!o.domain_min.empty()) {
             if (o.domain_min.size() != std::size_t(D) || o.domain_max.size() != std::size_t(D))
                 throw error("domain bounds need " + std::to_string(D) + " values each");
+            // Bounds beyond the scaled range of T hold no more points than the range itself.
+            const double limit = double(std::numeric_limits<T>::max());
             for (int a = 0; a < D; ++a) {
                 if (!std::isfinite(o.domain_min[a]) || !std::isfinite(o.domain_max[a]) ||
                     o.domain_min[a] > o.domain_max[a])
                     throw error("domain bounds on axis " + std::to_string(a) + " are not finite and ordered");
-                lo[a] = o.domain_min[a], hi[a] = o.domain_max[a];
+                lo[a] = std::clamp(o.domain_min[a], -limit, limit) * double(l.scale);
+                hi[a] = std::clamp(o.domain_max[a], -limit, limit) * double(l.scale);
             }
         }
-        auto cells_over = [&](const double* l, const double* h) {
+        auto cells_over = [&](const double* lb, const double* hb) {
             double cells = 1;
-            for (int a = 0; a < D; ++a) cells *= std::floor((h[a] - l[a]) / cell) + 1;
+            for (int a = 0; a < D; ++a) cells *= std::floor((hb[a] - lb[a]) / cell) + 1;
             return cells;
         };
         double cells = cells_over(lo.data(), hi.data());
@@ -278,56 +297,80 @@ void grid<T, D>::configure(std::span<const T> coords) {
         if (kind == grid_kind::automatic && cells > cap && o.domain_min.empty()) {
             // A few far outliers should not force the hashed grid: a uniform grid over the
             // bulk takes them into its border cells (exact, as with an explicit domain) when
-            // they are at most one in 1024 points.
+            // they are at most one in 1024 points. It also takes them, however many, when
+            // they lie beyond the hashed grid's keys.
             double blo[3] = {0, 0, 0}, bhi[3] = {0, 0, 0};
             bulk_box<T, D>(coords, cell, blo, bhi);
-            if (cells_over(blo, bhi) <= cap &&
-                count_outside<T, D>(coords, blo, bhi, detail::resolve_threads(o.threads)) <= n / 1024) {
+            bool beyond_keys = false;
+            for (int a = 0; a < D; ++a) beyond_keys |= std::max(std::abs(lo[a]), std::abs(hi[a])) / cell >= max_cell_coordinate;
+            const double bulk_cells = cells_over(blo, bhi);
+            if ((bulk_cells <= cap && count_outside<T, D>(coords, blo, bhi, threads) <= n / 1024) ||
+                (beyond_keys && bulk_cells <= max_uniform_cells)) {
                 for (int a = 0; a < D; ++a) lo[a] = blo[a], hi[a] = bhi[a];
-                cells = cells_over(blo, bhi);
+                cells = bulk_cells;
+                kind = grid_kind::uniform;
             }
         }
         if (kind == grid_kind::automatic) kind = cells <= cap ? grid_kind::uniform : grid_kind::hashed;
         if (kind == grid_kind::uniform && !(cells <= max_uniform_cells))
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
                         " cells (extent / cell size); use the hashed grid");
-        kind_ = kind;
+        l.kind = kind;
+        double extent = 0;
         for (int a = 0; a < D; ++a) {
-            cell_[a] = cell;
-            inv_cell_[a] = 1.0 / cell;
-            if (kind_ == grid_kind::uniform) {
-                origin_[a] = lo[a];
-                dims_[a] = std::int64_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
+            l.cell[a] = cell;
+            l.inv_cell[a] = 1.0 / cell;
+            if (l.kind == grid_kind::uniform) {
+                l.origin[a] = lo[a];
+                l.dims[a] = std::int64_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
             } else {
-                origin_[a] = 0;
-                const double extent = std::max(std::abs(lo[a]), std::abs(hi[a])) * inv_cell_[a];
-                if (extent >= max_cell_coordinate)
+                l.origin[a] = 0;
+                const double far = std::max(std::abs(lo[a]), std::abs(hi[a]));
+                if (far * l.inv_cell[a] >= max_cell_coordinate)
                     throw error("coordinates too far out for the hashed grid: |" +
-                                fmt_double(std::max(std::abs(lo[a]), std::abs(hi[a]))) + "| on axis " +
-                                std::to_string(a) + " is more than 2^52 cells from the origin");
+                                fmt_double(far / double(l.scale)) + "| on axis " + std::to_string(a) +
+                                " is more than 2^52 cells from the origin");
+                extent = std::max(extent, far);
             }
         }
+        // Queries farther out than every point by the stencil and a cell have no neighbors.
+        if (l.kind == grid_kind::hashed) l.far_bound = extent + (l.reach + 2) * cell;
     }
-    if (kind_ == grid_kind::uniform) {
-        slots_ = 1;
-        for (int a = 0; a < D; ++a) slots_ *= std::size_t(dims_[a]);
+    if (l.kind == grid_kind::uniform) {
+        l.slots = 1;
+        for (int a = 0; a < D; ++a) l.slots *= std::size_t(l.dims[a]);
     } else {
-        slots_ = std::bit_ceil(std::max<std::size_t>(n, 64));
+        l.slots = std::bit_ceil(std::max<std::size_t>(n, 64));
     }
+    return l;
+}
+
+// The empty grid a failed allocation leaves (its configuration stays).
+template <class T, int D>
+void grid<T, D>::clear() {
+    for (auto& p : pos_) p = buffer<T>();
+    for (auto& p : input_pos_) p = buffer<T>();
+    perm_ = buffer<std::uint32_t>();
+    inverse_.invalidate();
+    offsets_.assign(1, 0);
+    if (layout_.kind == grid_kind::uniform) layout_.slots = 0;
+    occupied_.clear();
+    mixed_.clear();
+    nonempty_ = 0;
 }
 
 template <class T, int D>
 std::uint32_t grid<T, D>::slot_of_cell(const std::array<std::int64_t, 3>& c) const {
-    if (kind_ == grid_kind::uniform)
-        return std::uint32_t(c[0] + dims_[0] * (c[1] + dims_[1] * c[2]));
-    return std::uint32_t((detail::row_hash(c[1], c[2]) + std::uint64_t(c[0])) & (slots_ - 1));
+    if (layout_.kind == grid_kind::uniform)
+        return std::uint32_t(c[0] + layout_.dims[0] * (c[1] + layout_.dims[1] * c[2]));
+    return std::uint32_t((detail::row_hash(c[1], c[2]) + std::uint64_t(c[0])) & (layout_.slots - 1));
 }
 
 template <class T, int D>
 std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
     const auto cell = cell_of(sorted_point(s));
     const std::uint32_t slot = slot_of_cell(cell);
-    if (kind_ != grid_kind::hashed) return offsets_[slot + 1];
+    if (layout_.kind != grid_kind::hashed) return offsets_[slot + 1];
     const std::uint32_t k = occupied_index(slot);  // occupied: point s lies in it
     if (mixed_[k / 64] >> (k % 64) & 1) {
         // A shared slot holds its cells one after the other (see group_cells).
@@ -340,32 +383,49 @@ std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
 
 template <class T, int D>
 void grid<T, D>::build(std::span<const T> coords, T radius, const grid_options& options) {
-    options_ = options;
+    std::vector<T> scaled;
+    const detail::grid_layout<T> layout = plan(coords, radius, options, scaled);
+    if (&options != &options_) options_ = options;
     radius_ = radius;
-    rebuild(coords);
+    layout_ = layout;
+    try {
+        sort_into_cells(scaled.empty() ? coords : std::span<const T>(scaled));
+        // A scaled grid keeps the caller's coordinates too (scaling may round tiny ones).
+        const std::size_t n = size();
+        for (int a = 0; a < D; ++a) {
+            if (layout.scale == 1) {
+                input_pos_[a] = buffer<T>();
+                continue;
+            }
+            input_pos_[a].resize(n);
+            for (std::size_t s = 0; s < n; ++s) input_pos_[a][s] = coords[std::size_t(perm_[s]) * D + a];
+        }
+    } catch (...) {
+        clear();
+        throw;
+    }
 }
 
 template <class T, int D>
 void grid<T, D>::rebuild(std::span<const T> coords) {
-    configure(coords);
-    sort_into_cells(coords);
+    build(coords, radius_, options_);
 }
 
 template <class T, int D>
 void grid<T, D>::input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const {
-    if (kind_ == grid_kind::uniform && !periodic_) {
+    if (layout_.kind == grid_kind::uniform && !layout_.periodic) {
         // The common case in vector code (cells within 2^31 per axis: checked in configure).
         detail::uniform_frame f{};
-        for (int a = 0; a < D; ++a) f.lo[a] = origin_[a], f.inv[a] = inv_cell_[a], f.top[a] = double(dims_[a] - 1);
-        f.stride1 = std::uint32_t(dims_[0]);
-        f.stride2 = std::uint32_t(dims_[0] * dims_[1]);
+        for (int a = 0; a < D; ++a) f.lo[a] = layout_.origin[a], f.inv[a] = layout_.inv_cell[a], f.top[a] = double(layout_.dims[a] - 1);
+        f.stride1 = std::uint32_t(layout_.dims[0]);
+        f.stride2 = std::uint32_t(layout_.dims[0] * layout_.dims[1]);
         detail::sweep_for_cpu<T, D>().uniform_slots(coords, b, e, f, out);
         return;
     }
-    if (kind_ == grid_kind::hashed) {
+    if (layout_.kind == grid_kind::hashed) {
         detail::hashed_frame f{};
-        for (int a = 0; a < D; ++a) f.inv[a] = inv_cell_[a];
-        f.mask = slots_ - 1;
+        for (int a = 0; a < D; ++a) f.inv[a] = layout_.inv_cell[a];
+        f.mask = layout_.slots - 1;
         detail::sweep_for_cpu<T, D>().hashed_slots(coords, b, e, f, out);
         return;
     }
@@ -400,8 +460,8 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     }
     perm_.resize(n);
     inverse_.invalidate();
-    offsets_.assign(slots_ + 1, 0);
-    thread_counts_.assign(parts * slots_, 0);
+    offsets_.assign(layout_.slots + 1, 0);
+    thread_counts_.assign(parts * layout_.slots, 0);
 
     // Scratch: the slot of every input point, written by the insert pass and read by the
     // scatter (cheaper than computing it twice), then room for step 4 with input in random
@@ -425,7 +485,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         constexpr std::size_t batch = 256;
         for (std::size_t i = b; i < e; i += batch) input_slots(coords.data(), i, std::min(e, i + batch), slot_of + i);
-        std::uint32_t* counts = thread_counts_.data() + c * slots_;
+        std::uint32_t* counts = thread_counts_.data() + c * layout_.slots;
         std::uint32_t prev = 0;
         std::size_t near = 0;
         for (std::size_t i = b; i < e; ++i) {
@@ -437,20 +497,20 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         local[c] = near;
     });
     // 2. Per cell: start of each chunk inside the cell, and the cell's total.
-    const std::size_t slot_parts = detail::chunk_count(slots_, threads, 1 << 14);
-    detail::for_each_chunk(slots_, slot_parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
+    const std::size_t slot_parts = detail::chunk_count(layout_.slots, threads, 1 << 14);
+    detail::for_each_chunk(layout_.slots, slot_parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t s = b; s < e; ++s) {
             std::uint32_t sum = 0;
             for (std::size_t c = 0; c < parts; ++c) {
-                const std::uint32_t v = thread_counts_[c * slots_ + s];
-                thread_counts_[c * slots_ + s] = sum;
+                const std::uint32_t v = thread_counts_[c * layout_.slots + s];
+                thread_counts_[c * layout_.slots + s] = sum;
                 sum += v;
             }
             offsets_[s] = sum;
         }
     });
     // 3. Exclusive prefix sum: where each cell starts.
-    detail::exclusive_scan(offsets_.data(), slots_ + 1, threads);
+    detail::exclusive_scan(offsets_.data(), layout_.slots + 1, threads);
     // 4. Stable scatter into cell order. Input in cell order (or nearly) is written straight
     // into the arrays: its writes stay within a few cells. Other input would miss the cache
     // on its D + 1 scattered writes per point. When its records fit the cache, each point goes
@@ -460,7 +520,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     for (auto v : local) near += v;
     if (2 * near >= n) {
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-            std::uint32_t* next = thread_counts_.data() + c * slots_;
+            std::uint32_t* next = thread_counts_.data() + c * layout_.slots;
             for (std::size_t i = b; i < e; ++i) {
                 const std::uint32_t s = slot_of[i];
                 const std::uint32_t dst = offsets_[s] + next[s]++;
@@ -471,7 +531,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     } else if (record_bytes > 0) {
         record* const records = reinterpret_cast<record*>(scratch.data() + slot_bytes);
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-            std::uint32_t* next = thread_counts_.data() + c * slots_;
+            std::uint32_t* next = thread_counts_.data() + c * layout_.slots;
             for (std::size_t i = b; i < e; ++i) {
                 const std::uint32_t s = slot_of[i];
                 record& r = records[offsets_[s] + next[s]++];
@@ -501,10 +561,10 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
     // Buckets are cut between groups of 2^shift slots, small groups (a sixteenth of a bucket
     // on average) so that uneven density still gives buckets of about the same size.
     int shift = 0;
-    while (shift < 24 && double(std::size_t(2) << shift) * double(n) <= double(slots_) * (bucket_points / 16)) ++shift;
-    const std::size_t groups = ((slots_ - 1) >> shift) + 1;
+    while (shift < 24 && double(std::size_t(2) << shift) * double(n) <= double(layout_.slots) * (bucket_points / 16)) ++shift;
+    const std::size_t groups = ((layout_.slots - 1) >> shift) + 1;
     std::vector<std::uint32_t> bucket_of(groups);
-    std::vector<std::size_t> first_slot;  // of each bucket, then slots_
+    std::vector<std::size_t> first_slot;  // of each bucket, then layout_.slots
     std::size_t largest = 0;              // points of the largest bucket
     for (std::size_t q = 0; q < groups; ++q) {
         const std::size_t s = q << shift;
@@ -515,13 +575,13 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
         bucket_of[q] = std::uint32_t(first_slot.size() - 1);
     }
     largest = std::max<std::size_t>(largest, n - offsets_[first_slot.back()]);
-    first_slot.push_back(slots_);
+    first_slot.push_back(layout_.slots);
     const std::size_t buckets = first_slot.size() - 1;
 
     // (a) By bucket. Chunk c's points of a bucket start after those of the earlier chunks,
     // which are the sum of their counts in the bucket's cells (step 2 left them per cell).
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-        const std::uint32_t* earlier = thread_counts_.data() + c * slots_;
+        const std::uint32_t* earlier = thread_counts_.data() + c * layout_.slots;
         std::vector<std::uint32_t> next(buckets);
         for (std::size_t k = 0; k < buckets; ++k) {
             std::uint32_t start = offsets_[first_slot[k]];
@@ -567,7 +627,7 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
 // shared slots are marked and cells counted.
 template <class T, int D>
 void grid<T, D>::index_cells() {
-    if (kind_ == grid_kind::hashed) index_occupied_slots();
+    if (layout_.kind == grid_kind::hashed) index_occupied_slots();
     else occupied_ = {};
     mark_mixed_slots();
 }
@@ -577,7 +637,7 @@ void grid<T, D>::index_cells() {
 template <class T, int D>
 void grid<T, D>::index_occupied_slots() {
     const int threads = detail::resolve_threads(options_.threads);
-    const std::size_t words = slots_ / 32;  // slots_ is a power of 2, at least 64
+    const std::size_t words = layout_.slots / 32;  // layout_.slots is a power of 2, at least 64
     occupied_.resize(words);
     const std::size_t parts = detail::chunk_count(words, threads, 1 << 10);
     std::vector<std::uint32_t> before(parts + 1, 0);
@@ -641,7 +701,7 @@ bool grid<T, D>::cells_sorted(std::uint32_t b, std::uint32_t e) const {
 template <class T, int D>
 void grid<T, D>::mark_mixed_slots() {
     const int threads = detail::resolve_threads(options_.threads);
-    const bool hashed = kind_ == grid_kind::hashed;
+    const bool hashed = layout_.kind == grid_kind::hashed;
     const std::size_t runs = offsets_.size() - 1;  // cells, or occupied slots (hashed)
     mixed_.assign(hashed ? (runs + 63) / 64 : 0, 0);
     const std::size_t words = (runs + 63) / 64;
@@ -681,41 +741,41 @@ template <class T, int D>
 std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
                                      std::int64_t width) const {
     std::size_t n = 0;
-    const int k = reach_;
+    const int k = layout_.reach;
     auto add = [&](std::uint32_t b, std::uint32_t e) { detail::append_run(out, n, b, e); };
     const int zr = D == 3 ? k : 0;
-    if (kind_ == grid_kind::uniform && !periodic_) {
+    if (layout_.kind == grid_kind::uniform && !layout_.periodic) {
         const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
-        const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
+        const std::int64_t x1 = std::min<std::int64_t>(layout_.dims[0] - 1, c[0] + width - 1 + k);
         for (int dz = -zr; dz <= zr; ++dz) {
             const std::int64_t z = c[2] + dz;
-            if (z < 0 || z >= dims_[2]) continue;
+            if (z < 0 || z >= layout_.dims[2]) continue;
             for (int dy = -k; dy <= k; ++dy) {
                 const std::int64_t y = c[1] + dy;
-                if (y < 0 || y >= dims_[1]) continue;
-                const std::int64_t row = (z * dims_[1] + y) * dims_[0];
+                if (y < 0 || y >= layout_.dims[1]) continue;
+                const std::int64_t row = (z * layout_.dims[1] + y) * layout_.dims[0];
                 add(offsets_[row + x0], offsets_[row + x1 + 1]);
             }
         }
         return n;
     }
-    if (periodic_) {
+    if (layout_.periodic) {
         // Distinct wrapped cells per axis: all of them when the axis has no more than 2k+1.
         std::array<std::array<std::int64_t, 9>, 3> idx{};
         std::array<int, 3> count{1, 1, 1};
         idx[2][0] = 0;
         for (int a = 0; a < D; ++a) {
-            if (dims_[a] <= 2 * k + 1) {
-                count[a] = int(dims_[a]);
+            if (layout_.dims[a] <= 2 * k + 1) {
+                count[a] = int(layout_.dims[a]);
                 for (int i = 0; i < count[a]; ++i) idx[a][i] = i;
             } else {
                 count[a] = 2 * k + 1;
-                for (int d = -k; d <= k; ++d) idx[a][d + k] = ((c[a] + d) % dims_[a] + dims_[a]) % dims_[a];
+                for (int d = -k; d <= k; ++d) idx[a][d + k] = ((c[a] + d) % layout_.dims[a] + layout_.dims[a]) % layout_.dims[a];
             }
         }
         for (int iz = 0; iz < count[2]; ++iz)
             for (int iy = 0; iy < count[1]; ++iy) {
-                const std::int64_t row = (idx[2][iz] * dims_[1] + idx[1][iy]) * dims_[0];
+                const std::int64_t row = (idx[2][iz] * layout_.dims[1] + idx[1][iy]) * layout_.dims[0];
                 for (int ix = 0; ix < count[0]; ++ix) {
                     const std::int64_t s = row + idx[0][ix];
                     add(offsets_[s], offsets_[s + 1]);
@@ -738,7 +798,7 @@ std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool f
             detail::append_run(out, n, b, e);
         }
     };
-    const int k = reach_;
+    const int k = layout_.reach;
     const int zr = D == 3 ? k : 0;
     if (!forward) {
         for (int dz = -zr; dz <= zr; ++dz)
@@ -754,7 +814,7 @@ std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool f
 
 template <class T, int D>
 std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std::array<std::int64_t, 3>& cell) const {
-    const std::size_t s = (detail::row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & (slots_ - 1);
+    const std::size_t s = (detail::row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & (layout_.slots - 1);
     const std::uint32_t k = occupied_index(s);
     if (k == empty_slot) return {0, 0};
     std::uint32_t b = offsets_[k], e = offsets_[k + 1];
@@ -780,21 +840,21 @@ std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std
 template <class T, int D>
 std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
                                      std::int64_t width) const {
-    const int k = reach_;
+    const int k = layout_.reach;
     std::size_t n = 0;
-    if (kind_ == grid_kind::hashed)  // the same cells, found through the table
+    if (layout_.kind == grid_kind::hashed)  // the same cells, found through the table
         return hashed_runs(c, true, out);
-    if (periodic_) {
+    if (layout_.periodic) {
         // Wrapped. With 2k + 1 cells or more on every axis (the caller's condition) the cells
         // c + d are distinct, and of d and -d exactly one lies in the half.
-        auto wrapped = [&](int a, std::int64_t v) { return (v % dims_[a] + dims_[a]) % dims_[a]; };
+        auto wrapped = [&](int a, std::int64_t v) { return (v % layout_.dims[a] + layout_.dims[a]) % layout_.dims[a]; };
         auto add_cells = [&](std::int64_t y, std::int64_t z, std::int64_t from, std::int64_t to) {
-            const std::int64_t row = (wrapped(2, z) * dims_[1] + wrapped(1, y)) * dims_[0];
+            const std::int64_t row = (wrapped(2, z) * layout_.dims[1] + wrapped(1, y)) * layout_.dims[0];
             const std::int64_t a = wrapped(0, from), b = wrapped(0, to);
             if (a <= b) {
                 detail::append_run(out, n, offsets_[row + a], offsets_[row + b + 1]);
             } else {
-                detail::append_run(out, n, offsets_[row + a], offsets_[row + dims_[0]]);
+                detail::append_run(out, n, offsets_[row + a], offsets_[row + layout_.dims[0]]);
                 detail::append_run(out, n, offsets_[row], offsets_[row + b + 1]);
             }
         };
@@ -807,19 +867,19 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
         return n;
     }
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
-    const std::int64_t x1 = std::min<std::int64_t>(dims_[0] - 1, c[0] + width - 1 + k);
+    const std::int64_t x1 = std::min<std::int64_t>(layout_.dims[0] - 1, c[0] + width - 1 + k);
     auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {
-        const std::int64_t row = (z * dims_[1] + y) * dims_[0];
+        const std::int64_t row = (z * layout_.dims[1] + y) * layout_.dims[0];
         const std::uint32_t b = offsets_[row + from], e = offsets_[row + x1 + 1];
         if (b < e) out[n++] = {b, e};
     };
     add_row(c[1], c[2], c[0]);  // own cell onwards
-    for (int dy = 1; dy <= k && c[1] + dy < dims_[1]; ++dy) add_row(c[1] + dy, c[2], x0);
+    for (int dy = 1; dy <= k && c[1] + dy < layout_.dims[1]; ++dy) add_row(c[1] + dy, c[2], x0);
     if constexpr (D == 3) {
-        for (int dz = 1; dz <= k && c[2] + dz < dims_[2]; ++dz)
+        for (int dz = 1; dz <= k && c[2] + dz < layout_.dims[2]; ++dz)
             for (int dy = -k; dy <= k; ++dy) {
                 const std::int64_t y = c[1] + dy;
-                if (y >= 0 && y < dims_[1]) add_row(y, c[2] + dz, x0);
+                if (y >= 0 && y < layout_.dims[1]) add_row(y, c[2] + dz, x0);
             }
     }
     return n;

@@ -271,6 +271,13 @@ struct query_engine {
             kernels.fill_kept(g, own, b, e);
             kept->done(c);
         });
+        // The distances of a scaled search, back in the caller's units.
+        const T inv = T(1) / g.search_scale();
+        if (distances && inv != 1) {
+            for_each_chunk(total, chunk_count(total, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
+                for (std::size_t k = b; k < e; ++k) out.distances[k] *= inv;
+            });
+        }
     }
 
     /// Resizes an array whose contents will all be overwritten: growing it allocates afresh
@@ -332,14 +339,16 @@ csr<T> grid<T, D>::nearest(std::size_t k, const list_options& options) const {
 template <class T, int D>
 csr<T> grid<T, D>::query(std::span<const T> queries, const list_options& options) const {
     detail::query_engine<T, D> q(*this);
-    validate_queries(queries);
+    std::vector<T> storage;
+    queries = search_queries(queries, storage);
     return q.lists(queries, true, options, 0);
 }
 
 template <class T, int D>
 std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T> queries) const {
     detail::query_engine<T, D> q(*this);
-    validate_queries(queries);
+    std::vector<T> storage;
+    queries = search_queries(queries, storage);
     return q.query_counts(queries);
 }
 
@@ -347,20 +356,32 @@ template <class T, int D>
 csr<T> grid<T, D>::query_nearest(std::span<const T> queries, std::size_t k, const list_options& options) const {
     if (k == 0) throw error("query_nearest: k must be at least 1");
     detail::query_engine<T, D> q(*this);
-    validate_queries(queries);
+    std::vector<T> storage;
+    queries = search_queries(queries, storage);
     return q.lists(queries, true, options, k);
 }
 
 template <class T, int D>
-void grid<T, D>::validate_queries(std::span<const T> queries) const {
+std::span<const T> grid<T, D>::search_queries(std::span<const T> queries, std::vector<T>& storage) const {
     if (queries.size() % D != 0)
         throw error("query array has " + std::to_string(queries.size()) +
                     " values, not a multiple of the dimension " + std::to_string(D));
+    bool as_given = layout_.scale == 1;
     for (std::size_t q = 0; q < queries.size() / D; ++q) {
         point x;
         for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
         check_query_point(x, q);
+        for (int a = 0; a < D; ++a) as_given = as_given && std::abs(double(x[a])) <= layout_.far_bound;
     }
+    if (as_given) return queries;
+    storage.resize(queries.size());
+    for (std::size_t q = 0; q < queries.size() / D; ++q) {
+        point x;
+        for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
+        const point y = search_point(x, q);
+        for (int a = 0; a < D; ++a) storage[q * D + a] = y[a];
+    }
+    return storage;
 }
 
 // The class itself is instantiated in grid_build.cpp; these are the members defined here.
@@ -373,7 +394,7 @@ void grid<T, D>::validate_queries(std::span<const T> queries) const {
     template std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T>) const;        \
     template csr<T> grid<T, D>::query_nearest(std::span<const T>, std::size_t, const list_options&) \
         const;                                                                                      \
-    template void grid<T, D>::validate_queries(std::span<const T>) const;
+    template std::span<const T> grid<T, D>::search_queries(std::span<const T>, std::vector<T>&) const;
 FRNN_INSTANTIATE_QUERIES(float, 2)
 FRNN_INSTANTIATE_QUERIES(float, 3)
 FRNN_INSTANTIATE_QUERIES(double, 2)

@@ -74,7 +74,7 @@ struct candidate_block {
         std::uint32_t m = 0;
         for (std::size_t k = 0; k < nruns; ++k) {
             const std::uint32_t len = runs[k].end - runs[k].begin;
-            for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.sorted_coords(a) + runs[k].begin, len);
+            for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.search_coords(a) + runs[k].begin, len);
             m += len;
         }
         size = m;
@@ -484,10 +484,10 @@ struct pair_counter {
     void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns, std::uint32_t* counts,
                std::uint32_t* partners) const {
         const T* x[D];
-        for (int a = 0; a < D; ++a) x[a] = g.sorted_coords(a) + gb;
+        for (int a = 0; a < D; ++a) x[a] = g.search_coords(a) + gb;
         for (std::size_t r = 0; r < nruns; ++r) {
             run_view v;
-            for (int a = 0; a < D; ++a) v.c[a] = g.sorted_coords(a) + runs[r].begin;
+            for (int a = 0; a < D; ++a) v.c[a] = g.search_coords(a) + runs[r].begin;
             v.len = runs[r].end - runs[r].begin;
             v.first = r == 0;
             v.pos0 = v.first ? gb - runs[r].begin : 0;
@@ -552,7 +552,7 @@ template <class T, int D, class F>
 void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std::int64_t group_width, F&& f) {
     if (b >= e) return;
     std::array<T, D> x;
-    for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(b, a);
+    for (int a = 0; a < D; ++a) x[a] = g.search_coord(b, a);
     auto cell = g.cell_of(x);
     if (g.kind() == grid_kind::uniform) {
         // Walk the cells in order from the first point's: no cell computation per group.
@@ -575,7 +575,7 @@ void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std:
         return;
     }
     for (std::size_t s = b; s < e;) {
-        for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+        for (int a = 0; a < D; ++a) x[a] = g.search_coord(s, a);
         const std::size_t end = std::min<std::size_t>(g.cell_group_end(std::uint32_t(s)), e);
         f(std::uint32_t(s), std::uint32_t(end), g.cell_of(x), std::int64_t(1));
         s = end;
@@ -607,9 +607,9 @@ struct sweeper {
     std::int64_t group_width;
 
     sweeper(const grid<T, D>& gr, const sweep_job<T>& j)
-        : g(gr), job(j), r2(gr.radius() * gr.radius()), group_width(group_width_for(gr)) {
+        : g(gr), job(j), r2(gr.search_radius() * gr.search_radius()), group_width(group_width_for(gr)) {
         if constexpr (Periodic)
-            for (int a = 0; a < D; ++a) box[a] = T(gr.options().periodic[a]);
+            for (int a = 0; a < D; ++a) box[a] = gr.search_box(a);
     }
 
     std::array<T, D> point(std::uint32_t s) const {
@@ -618,7 +618,7 @@ struct sweeper {
             const T* q = job.queries + std::size_t(job.query_order[s]) * D;
             for (int a = 0; a < D; ++a) x[a] = q[a];
         } else {
-            for (int a = 0; a < D; ++a) x[a] = g.sorted_coord(s, a);
+            for (int a = 0; a < D; ++a) x[a] = g.search_coord(s, a);
         }
         return x;
     }

@@ -27,6 +27,9 @@ struct entry {
     std::uint32_t j;
     T dist;  ///< distance, as the oracle gives it
     T d2;    ///< squared distance, as callbacks give it
+    /// Squared distance in search space (frnn/search_scale.hpp): rows by distance are sorted
+    /// on it, since it keeps apart distances that the caller's units round together.
+    T key;
 };
 template <class T>
 using rows_t = std::vector<std::vector<entry<T>>>;
@@ -36,12 +39,13 @@ template <class T, int D>
 rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> data, T radius,
                          bool exclude_same, std::span<const double> periodic) {
     const csr<T> lists = brute_force_lists<T, D>(queries, data, radius, exclude_same, periodic);
+    const distance_test<T, D> test(radius, search_scale<T>(radius, largest_magnitude<T>(data, periodic)), periodic);
     rows_t<T> rows(lists.rows());
     for (std::size_t q = 0; q < lists.rows(); ++q) {
         for (std::uint64_t k = lists.offsets[q]; k < lists.offsets[q + 1]; ++k) {
             const std::uint32_t j = lists.indices[k];
-            const T d2 = brute_distance_squared<T, D>(&queries[q * D], &data[j * D], periodic);
-            rows[q].push_back({j, lists.distances[k], d2});
+            const T key = test.scaled_distance_squared(&queries[q * D], &data[j * D]);
+            rows[q].push_back({j, lists.distances[k], test.distance_squared(key), key});
         }
     }
     return rows;
@@ -60,9 +64,9 @@ rows_t<T> expected_self_rows(const rows_t<T>& ref, std::span<const std::uint32_t
         for (const auto& e : ref[src]) {
             const std::uint32_t j = sorted ? inverse[e.j] : e.j;
             if (o.half && j <= r) continue;
-            row.push_back({j, e.dist, e.d2});
+            row.push_back({j, e.dist, e.d2, e.key});
         }
-        if (o.self) row.push_back({std::uint32_t(r), T(0), T(0)});
+        if (o.self) row.push_back({std::uint32_t(r), T(0), T(0), T(0)});
         std::sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.j < b.j; });
     }
     return out;
@@ -85,7 +89,7 @@ rows_t<T> expected_query_rows(const rows_t<T>& ref, std::span<const std::uint32_
 /// The two accepted distance orders of an index-sorted row (ties by index).
 template <class T>
 std::vector<entry<T>> by_d2(std::vector<entry<T>> row) {
-    std::stable_sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.d2 < b.d2; });
+    std::stable_sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.key < b.key; });
     return row;
 }
 template <class T>
@@ -467,6 +471,21 @@ inline depth depth_for_cell(double fraction) { return fraction == 1.0 ? depth::f
 
 inline std::string kind_name(grid_kind k) {
     return k == grid_kind::automatic ? "auto" : k == grid_kind::uniform ? "uniform" : "hashed";
+}
+
+/// check_all on every grid kind, with cells of r times each of `fractions` (1: the default).
+template <class T, int D>
+void check_kinds_and_cells(const std::vector<T>& pts, T r, const std::vector<T>& queries,
+                           std::initializer_list<double> fractions, const grid_options& base = {}) {
+    for (auto kind : {grid_kind::automatic, grid_kind::uniform, grid_kind::hashed}) {
+        for (double f : fractions) {
+            grid_options opt = base;
+            opt.kind = kind;
+            opt.cell_size = f == 1.0 ? 0.0 : double(r) * f;
+            SCOPED_TRACE("kind=" + kind_name(kind) + " cell=r*" + std::to_string(f));
+            check_all<T, D>(pts, r, opt, queries, depth_for_cell(f));
+        }
+    }
 }
 
 }  // namespace frnn::test

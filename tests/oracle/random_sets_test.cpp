@@ -14,16 +14,7 @@ constexpr double cell_fractions[] = {1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4};
 // Radius and sizes give 20-40 neighbors per point: enough pairs, fast oracle.
 template <class T, int D>
 void run_all_kinds_and_cells(const std::vector<T>& pts, T r, std::uint64_t seed) {
-    const auto queries = query_points<T, D>(pts, r, 150, {}, seed);
-    for (auto kind : kinds) {
-        for (double f : cell_fractions) {
-            grid_options opt;
-            opt.kind = kind;
-            opt.cell_size = f == 1.0 ? 0.0 : double(r) * f;
-            SCOPED_TRACE("kind=" + kind_name(kind) + " cell=r*" + std::to_string(f));
-            check_all<T, D>(pts, r, opt, queries, depth_for_cell(f));
-        }
-    }
+    check_kinds_and_cells<T, D>(pts, r, query_points<T, D>(pts, r, 150, {}, seed), {1.0, 1.0 / 2, 1.0 / 3, 1.0 / 4});
 }
 
 template <class T, int D>
