@@ -220,8 +220,8 @@ std::string settings_text(const config& cfg) {
 namespace {
 
 // A comma list of V (every workload) and W=V (workload W) items into `all` and `one`.
-void parse_size_list(std::string_view text, const char* option, std::vector<std::size_t>& all,
-                     std::map<std::string, std::vector<std::size_t>>& one) {
+void parse_size_list(std::string_view text, const std::string& option, const std::string& forms,
+                     std::vector<std::size_t>& all, std::map<std::string, std::vector<std::size_t>>& one) {
     if (text.empty()) return;
     std::size_t start = 0;
     while (start <= text.size()) {
@@ -241,7 +241,7 @@ void parse_size_list(std::string_view text, const char* option, std::vector<std:
             used = 0;
         }
         if (used == 0 || used != item.size() || item.find('-') != std::string::npos)
-            throw error(std::string("bench: ") + option + ": '" + item + "' is not a size (expected N or W2=N)");
+            throw error("bench: " + option + ": '" + item + "' is not a size (expected " + forms + ")");
         (id.empty() ? all : one[id]).push_back(std::size_t(value));
     }
 }
@@ -249,13 +249,13 @@ void parse_size_list(std::string_view text, const char* option, std::vector<std:
 }  // namespace
 
 void parse_sizes(std::string_view text, config& cfg) {
-    parse_size_list(text, "--n", cfg.sizes, cfg.workload_sizes);
+    parse_size_list(text, "--n", "N or W2=N", cfg.sizes, cfg.workload_sizes);
 }
 
 void parse_sides(std::string_view text, config& cfg) {
     std::vector<std::size_t> all;
     std::map<std::string, std::vector<std::size_t>> one;
-    parse_size_list(text, "--side", all, one);
+    parse_size_list(text, "--side", "S or W1=S", all, one);
     for (const auto& [id, sides] : one)
         if (!find_workload(id).lattice)
             throw error("bench: --side: " + id + " is not a lattice workload (W1, W4 and W5 are); give its --n");

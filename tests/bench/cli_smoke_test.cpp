@@ -162,7 +162,8 @@ TEST(BenchCli, BadArgumentsFailCleanly) {
     fails("--workload W1 --n 4 --backend vulkan", 1, "backend 'vulkan'");
     fails("--workload W1 --n 4 --repeat 0", 2, "--repeat");
     fails("--workload W1 --n W2=1000", 1, "--n gives sizes for W2");  // W2 not selected
-    fails("--workload W1 --n 4.5", 1, "'4.5' is not a size");
+    fails("--workload W1 --n 4.5", 1, "--n: '4.5' is not a size (expected N or W2=N)");
+    fails("--workload W1 --side 1e3", 1, "--side: '1e3' is not a size (expected S or W1=S)");
     fails("--workload W1,W2 --side W2=10", 1, "--side: W2 is not a lattice workload");
     fails("--workload W1 --side W4=10", 1, "--side gives sides for W4");
     fails("--workload W2 --side 10", 1, "--side needs a lattice workload");
