@@ -124,8 +124,7 @@ std::string to_markdown(const report& rep) {
           "ns/particle: median time / N\n";
     for (const auto& c : rep.cases) {
         md += "\n## " + c.workload + " " + c.name + ": N = " + grouped(c.n);
-        if (c.size_meaning != "points")
-            md += " (" + c.size_meaning + " " + std::to_string(c.size) + ")";
+        if (c.side != 0) md += " (lattice side " + std::to_string(c.side) + ")";
         md += ", " + std::to_string(c.dim) + "D, r = " + format("%g", c.radius) + "\n\n";
         for (const auto& v : c.voids) md += "**" + v + "** (the comparison is void)\n\n";
         md += "| method | threads | phase | ms | ns/particle | pairs |\n";

@@ -31,8 +31,7 @@ public:
         : cfg_(cfg), rep_(rep), coords_(generate<T>(w, size)), radius_(T(w.radius)) {
         info_.workload = w.id;
         info_.name = w.name;
-        info_.size = size;
-        info_.size_meaning = w.size_meaning;
+        info_.side = lattice_side(w, size);
         info_.n = coords_.size() / D;
         info_.dim = D;
         info_.radius = w.radius;
@@ -218,7 +217,11 @@ std::string settings_text(const config& cfg) {
 
 }  // namespace
 
-void parse_sizes(std::string_view text, config& cfg) {
+namespace {
+
+// A comma list of V (every workload) and W=V (workload W) items into `all` and `one`.
+void parse_size_list(std::string_view text, const std::string& option, const std::string& forms,
+                     std::vector<std::size_t>& all, std::map<std::string, std::vector<std::size_t>>& one) {
     if (text.empty()) return;
     std::size_t start = 0;
     while (start <= text.size()) {
@@ -238,19 +241,49 @@ void parse_sizes(std::string_view text, config& cfg) {
             used = 0;
         }
         if (used == 0 || used != item.size() || item.find('-') != std::string::npos)
-            throw error("bench: --n: '" + item + "' is not a size (expected N or W2=N)");
-        (id.empty() ? cfg.sizes : cfg.workload_sizes[id]).push_back(std::size_t(value));
+            throw error("bench: " + option + ": '" + item + "' is not a size (expected " + forms + ")");
+        (id.empty() ? all : one[id]).push_back(std::size_t(value));
     }
 }
 
+}  // namespace
+
+void parse_sizes(std::string_view text, config& cfg) {
+    parse_size_list(text, "--n", "N or W2=N", cfg.sizes, cfg.workload_sizes);
+}
+
+void parse_sides(std::string_view text, config& cfg) {
+    std::vector<std::size_t> all;
+    std::map<std::string, std::vector<std::size_t>> one;
+    parse_size_list(text, "--side", "S or W1=S", all, one);
+    for (const auto& [id, sides] : one)
+        if (!find_workload(id).lattice)
+            throw error("bench: --side: " + id + " is not a lattice workload (W1, W4 and W5 are); give its --n");
+    for (const auto& [id, sides] : one)
+        cfg.workload_sides[id].insert(cfg.workload_sides[id].end(), sides.begin(), sides.end());
+    cfg.sides.insert(cfg.sides.end(), all.begin(), all.end());
+}
+
 std::vector<std::size_t> sizes_for(const config& cfg, const std::string& id) {
-    const auto own = cfg.workload_sizes.find(id);
-    const auto& chosen = own != cfg.workload_sizes.end() ? own->second
-                         : cfg.sizes.empty()          ? find_workload(id).sizes
-                                                      : cfg.sizes;
+    const workload& w = find_workload(id);
+    const auto named = [&](const std::map<std::string, std::vector<std::size_t>>& per_workload) {
+        const auto it = per_workload.find(w.id);
+        return it == per_workload.end() ? std::vector<std::size_t>{} : it->second;
+    };
+    const auto counts = [&](const std::vector<std::size_t>& sizes, const std::vector<std::size_t>& sides) {
+        std::vector<std::size_t> out;
+        for (std::size_t n : sizes) out.push_back(point_count(w, n));
+        if (w.lattice)
+            for (std::size_t side : sides) out.push_back(side_count(w, side));
+        return out;
+    };
+    // Requests for this workload win over those for every workload, which win over the defaults.
+    std::vector<std::size_t> chosen = counts(named(cfg.workload_sizes), named(cfg.workload_sides));
+    if (chosen.empty()) chosen = counts(cfg.sizes, cfg.sides);
+    if (chosen.empty()) chosen = counts(w.sizes, {});
     std::vector<std::size_t> out;
-    for (std::size_t s : chosen)
-        if (std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
+    for (std::size_t n : chosen)
+        if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
     return out;
 }
 
@@ -261,17 +294,21 @@ report run(const config& cfg) {
         if (t < 1) throw error("bench: --threads values must be >= 1, got " + std::to_string(t));
     if (cfg.cell_factor != 0 && !(cfg.cell_factor >= 0.25 && cfg.cell_factor <= 1))
         throw error("bench: --cell must lie in [0.25, 1] (a fraction of r)");
+    const auto selected = [&](const std::string& id) {
+        return std::find(cfg.workloads.begin(), cfg.workloads.end(), id) != cfg.workloads.end();
+    };
     for (const auto& [id, sizes] : cfg.workload_sizes)
-        if (std::find(cfg.workloads.begin(), cfg.workloads.end(), id) == cfg.workloads.end())
-            throw error("bench: --n gives sizes for " + id + ", which --workload does not select");
+        if (!selected(id)) throw error("bench: --n gives sizes for " + id + ", which --workload does not select");
+    for (const auto& [id, sides] : cfg.workload_sides)
+        if (!selected(id)) throw error("bench: --side gives sides for " + id + ", which --workload does not select");
+    if (!cfg.sides.empty() &&
+        std::none_of(cfg.workloads.begin(), cfg.workloads.end(), [](const std::string& id) { return find_workload(id).lattice; }))
+        throw error("bench: --side needs a lattice workload (W1, W4 or W5) in --workload");
     // Resolve every workload and size before the first (long) measurement.
     std::vector<std::pair<const workload*, std::size_t>> plan;
     for (const auto& id : cfg.workloads) {
         const workload& w = find_workload(id);
-        for (std::size_t size : sizes_for(cfg, w.id)) {
-            point_count(w, size);  // throws for a size that gives no points or too many
-            plan.emplace_back(&w, size);
-        }
+        for (std::size_t n : sizes_for(cfg, w.id)) plan.emplace_back(&w, n);
     }
 
     report rep;

@@ -38,28 +38,27 @@ std::string trim(std::string_view text) {
     return std::string(text.substr(first, last - first + 1));
 }
 
-// Jittered lattice of side n in `dim` dimensions, x fastest, spacing 1, jitter +-0.1.
-template <class T>
-void lattice(std::vector<T>& out, std::size_t n, int dim, draw& rng) {
-    const std::size_t nz = dim == 3 ? n : 1;
-    for (std::size_t k = 0; k < nz; ++k)
-        for (std::size_t j = 0; j < n; ++j)
-            for (std::size_t i = 0; i < n; ++i) {
-                out.push_back(T(double(i) + rng.uniform(-0.1, 0.1)));
-                out.push_back(T(double(j) + rng.uniform(-0.1, 0.1)));
-                if (dim == 3) out.push_back(T(double(k) + rng.uniform(-0.1, 0.1)));
-            }
+constexpr double max_points = double(std::numeric_limits<std::uint32_t>::max() - 1);
+
+// Points of w's lattice of side `side`, in double so that a huge side cannot overflow.
+double lattice_points(const workload& w, std::size_t side) {
+    return std::pow(double(side), w.dim) + (w.id == "W5" ? 1 : 0);  // W5: one far outlier
+}
+
+void check_count(const workload& w, double count, const std::string& asked) {
+    if (count < 1 || count > max_points)
+        throw error("workload " + w.id + ": " + asked + " gives no points or more than 2^32 - 2");
 }
 
 }  // namespace
 
 const std::vector<workload>& all_workloads() {
     static const std::vector<workload> list{
-        {"W1", "lattice", 3, 2.0, {32, 64, 100, 160}, "lattice side"},
-        {"W2", "uniform", 3, 2.0, {32768, 262144, 1000000, 4096000}, "points"},
-        {"W3", "clustered", 3, 1.0, {1000000}, "points"},
-        {"W4", "plane", 2, 2.0, {1000}, "lattice side"},
-        {"W5", "outlier", 3, 2.0, {100}, "lattice side"},
+        {"W1", "lattice", 3, 2.0, {32768, 262144, 1000000, 4096000}, true},
+        {"W2", "uniform", 3, 2.0, {32768, 262144, 1000000, 4096000}, false},
+        {"W3", "clustered", 3, 1.0, {1000000}, false},
+        {"W4", "plane", 2, 2.0, {1000000}, true},
+        {"W5", "outlier", 3, 2.0, {1000000}, true},  // 100^3 + 1 points
     };
     return list;
 }
@@ -91,41 +90,77 @@ std::vector<std::string> parse_workload_list(std::string_view text) {
     return unique;
 }
 
-std::size_t point_count(const workload& w, std::size_t size) {
-    const double limit = double(std::numeric_limits<std::uint32_t>::max() - 1);
-    double count = double(size);
-    if (w.size_meaning == "lattice side") count = std::pow(double(size), w.dim);
-    if (w.id == "W5") count += 1;
-    if (size == 0 || count > limit)
-        throw error("workload " + w.id + ": size " + std::to_string(size) +
-                    " gives no points or more than 2^32 - 2 (size is the " + w.size_meaning + ")");
+std::size_t lattice_side(const workload& w, std::size_t n) {
+    if (!w.lattice) return 0;
+    const double outliers = lattice_points(w, 0);
+    // The root's rounding is off by one at most: compare the neighbouring sides too.
+    const auto guess = std::size_t(std::llround(std::pow(std::max(double(n) - outliers, 1.0), 1.0 / w.dim)));
+    std::size_t best = std::max<std::size_t>(guess, 2) - 1;
+    for (std::size_t side = best + 1; side <= guess + 1; ++side)
+        if (std::abs(lattice_points(w, side) - double(n)) < std::abs(lattice_points(w, best) - double(n)))
+            best = side;
+    return best;
+}
+
+std::size_t side_count(const workload& w, std::size_t side) {
+    if (!w.lattice) throw error("workload " + w.id + " is not a lattice: it has no side (give --n)");
+    const double count = side == 0 ? 0 : lattice_points(w, side);
+    check_count(w, count, "lattice side " + std::to_string(side));
+    return std::size_t(count);
+}
+
+std::size_t point_count(const workload& w, std::size_t n) {
+    const double count = n == 0 ? 0 : w.lattice ? lattice_points(w, lattice_side(w, n)) : double(n);
+    check_count(w, count, "N = " + std::to_string(n));
     return std::size_t(count);
 }
 
 template <class T>
-std::vector<T> generate(const workload& w, std::size_t size) {
-    const std::size_t n_points = point_count(w, size);
+std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long seed) {
     std::vector<T> out;
-    out.reserve(n_points * std::size_t(w.dim));
-    draw rng(workload_seed);
-    if (w.id == "W1" || w.id == "W4" || w.id == "W5") {
-        lattice(out, size, w.dim, rng);
+    out.reserve(std::size_t(std::pow(double(side), dim)) * std::size_t(dim));
+    draw rng(seed);
+    const std::size_t nz = dim == 3 ? side : 1;
+    for (std::size_t k = 0; k < nz; ++k)
+        for (std::size_t j = 0; j < side; ++j)
+            for (std::size_t i = 0; i < side; ++i) {
+                out.push_back(T(double(i) + rng.uniform(-0.1, 0.1)));
+                out.push_back(T(double(j) + rng.uniform(-0.1, 0.1)));
+                if (dim == 3) out.push_back(T(double(k) + rng.uniform(-0.1, 0.1)));
+            }
+    return out;
+}
+
+template <class T>
+std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed) {
+    draw rng(seed);
+    const double side = dim == 3 ? std::cbrt(double(count)) : std::sqrt(double(count));
+    std::vector<T> out(count * std::size_t(dim));
+    for (T& x : out) x = T(rng.uniform(0.0, side));
+    return out;
+}
+
+template <class T>
+std::vector<T> generate(const workload& w, std::size_t n) {
+    const std::size_t n_points = point_count(w, n);
+    if (w.lattice) {
+        std::vector<T> out = jittered_lattice<T>(lattice_side(w, n), w.dim, workload_seed);
         if (w.id == "W5") out.insert(out.end(), {T(1e7), T(1e7), T(1e7)});
-    } else if (w.id == "W2") {
-        const double side = std::cbrt(double(size));  // density 1
-        for (std::size_t i = 0; i < size * 3; ++i) out.push_back(T(rng.uniform(0.0, side)));
-    } else if (w.id == "W3") {
-        // 64 Gaussian blobs (sigma 2), centres uniform in [0, 1000)^3, drawn first; point i
-        // belongs to blob i mod 64, so the input order is scattered across the blobs.
-        constexpr int blobs = 64;
-        double centre[blobs][3];
-        for (auto& c : centre)
-            for (double& x : c) x = rng.uniform(0.0, 1000.0);
-        for (std::size_t i = 0; i < size; ++i)
-            for (int a = 0; a < 3; ++a) out.push_back(T(centre[i % blobs][a] + 2.0 * rng.normal()));
-    } else {
-        throw error("workload " + w.id + " has no generator");
+        return out;
     }
+    if (w.id == "W2") return uniform_cube<T>(n_points, w.dim, workload_seed);
+    if (w.id != "W3") throw error("workload " + w.id + " has no generator");
+    // 64 Gaussian blobs (sigma 2), centres uniform in [0, 1000)^3, drawn first; point i
+    // belongs to blob i mod 64, so the input order is scattered across the blobs.
+    constexpr int blobs = 64;
+    draw rng(workload_seed);
+    double centre[blobs][3];
+    for (auto& c : centre)
+        for (double& x : c) x = rng.uniform(0.0, 1000.0);
+    std::vector<T> out;
+    out.reserve(n_points * 3);
+    for (std::size_t i = 0; i < n_points; ++i)
+        for (int a = 0; a < 3; ++a) out.push_back(T(centre[i % blobs][a] + 2.0 * rng.normal()));
     return out;
 }
 
@@ -139,6 +174,10 @@ std::vector<T> moved_copy(std::span<const T> coords) {
 
 template std::vector<float> generate<float>(const workload&, std::size_t);
 template std::vector<double> generate<double>(const workload&, std::size_t);
+template std::vector<float> jittered_lattice<float>(std::size_t, int, unsigned long long);
+template std::vector<double> jittered_lattice<double>(std::size_t, int, unsigned long long);
+template std::vector<float> uniform_cube<float>(std::size_t, int, unsigned long long);
+template std::vector<double> uniform_cube<double>(std::size_t, int, unsigned long long);
 template std::vector<float> moved_copy<float>(std::span<const float>);
 template std::vector<double> moved_copy<double>(std::span<const double>);
 

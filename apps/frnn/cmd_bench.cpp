@@ -22,7 +22,7 @@ namespace {
 
 struct bench_args {
     std::string workloads = "all";
-    std::string sizes;
+    std::string sizes, sides;
     std::vector<int> threads{1, 2};
     int repeat = 5;
     std::string backend = "cpu";
@@ -46,6 +46,7 @@ std::string join(const std::vector<V>& values) {
 std::string command_line(const bench_args& a) {
     std::string s = "frnn bench --workload " + a.workloads;
     if (!a.sizes.empty()) s += " --n " + a.sizes;
+    if (!a.sides.empty()) s += " --side " + a.sides;
     s += " --threads " + join(a.threads) + " --repeat " + std::to_string(a.repeat);
     if (a.backend != "cpu") s += " --backend " + a.backend;
     if (a.precision != "float") s += " --precision " + a.precision;
@@ -62,6 +63,7 @@ void run_bench(bench_args a) {
     bench::config cfg;
     cfg.workloads = bench::parse_workload_list(a.workloads);
     bench::parse_sizes(a.sizes, cfg);
+    bench::parse_sides(a.sides, cfg);
     std::vector<int> threads;
     for (int t : a.threads)
         if (std::find(threads.begin(), threads.end(), t) == threads.end()) threads.push_back(t);
@@ -97,9 +99,12 @@ const register_command reg{"bench", [](CLI::App& app) {
     sub->add_option("--workload", args->workloads, "W1..W5, all, or a comma list (W1,W2)")
         ->capture_default_str();
     sub->add_option("--n", args->sizes,
-                    "sizes replacing the workloads' defaults, a comma list of N (every workload) "
-                    "or W=N (one workload, e.g. W1=100,W2=1000000); N is the lattice side for "
-                    "W1, W4, W5 and the number of points for W2, W3");
+                    "point counts replacing the workloads' defaults, a comma list of N (every "
+                    "workload) or W=N (one workload, e.g. W1=1000000,W2=1000000); the lattice "
+                    "workloads W1, W4, W5 take the lattice count nearest to N");
+    sub->add_option("--side", args->sides,
+                    "lattice sides, beside or instead of --n: S (every lattice workload) or W=S "
+                    "(W1, W4 or W5, e.g. W1=100: 100^3 points)");
     sub->add_option("--threads", args->threads, "thread counts, comma list")
         ->delimiter(',')
         ->capture_default_str();

@@ -10,12 +10,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numeric>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "command.hpp"
 #include "validators.hpp"
+#include "frnn/bench/workloads.hpp"
 #include "frnn/grid.hpp"
 #include "frnn/io/read.hpp"
 #include "frnn/io/write.hpp"
@@ -77,8 +77,8 @@ std::vector<double> parse_periodic(const std::string& text) {
     }
 }
 
-// Built-in point sets, the BENCHMARKS.md workloads W1 (lattice) and W2 (uniform): std::mt19937_64,
-// drawing x, then y, then z of each point in turn.
+// Built-in point sets: the generators of the benchmark workloads (W1 and W4 are lattice:N with
+// --dim 3 and 2, W2 uniform:N), so with the default seed the same points as `frnn bench`.
 io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed) {
     const std::size_t colon = spec.find(':');
     const std::string kind = spec.substr(0, colon);
@@ -92,25 +92,10 @@ io::point_set generate_points(const std::string& spec, int dim, std::uint64_t se
     const double count = kind == "lattice" ? std::pow(double(n), dim) : double(n);
     if (count > 1e9) throw CLI::ValidationError("--generate", "'" + spec + "' asks for too many points");
 
-    std::mt19937_64 rng(seed);
-    std::vector<double> xyz;
-    xyz.reserve(std::size_t(count) * std::size_t(dim));
-    if (kind == "lattice") {  // spacing 1, each coordinate jittered by uniform(-0.1, 0.1)
-        std::uniform_real_distribution<double> jitter(-0.1, 0.1);
-        const std::uint64_t nz = dim == 3 ? n : 1;
-        for (std::uint64_t k = 0; k < nz; ++k)
-            for (std::uint64_t j = 0; j < n; ++j)
-                for (std::uint64_t i = 0; i < n; ++i) {
-                    const double cell[3] = {double(i), double(j), double(k)};
-                    for (int a = 0; a < dim; ++a) xyz.push_back(cell[a] + jitter(rng));
-                }
-    } else {  // unit density: a cube of side N^(1/dim)
-        std::uniform_real_distribution<double> coordinate(0.0, std::pow(double(n), 1.0 / dim));
-        for (std::size_t k = 0; k < std::size_t(n) * std::size_t(dim); ++k) xyz.push_back(coordinate(rng));
-    }
     io::point_set points;
     points.dimension = dim;
-    points.coords = std::move(xyz);
+    points.coords = kind == "lattice" ? bench::jittered_lattice<double>(n, dim, seed)
+                                      : bench::uniform_cube<double>(n, dim, seed);
     return points;
 }
 
@@ -325,8 +310,9 @@ const register_command query_command{"query", [](CLI::App& app) {
                     "Output file: .npy (int64 pairs (M,2)), .csv (i,j,distance) or .npz (CSR lists)");
     cmd->add_option("--queries", args->queries, "Query points (same formats): pairs are (query index, data index)");
     cmd->add_option("--generate", args->generate,
-                    "Use a built-in point set instead of INPUT: lattice:N (N^dim jittered lattice points, "
-                    "spacing 1) or uniform:N (N uniform points at density 1)");
+                    "Use a built-in point set instead of INPUT, drawn as frnn bench draws its workloads: "
+                    "lattice:N (N^dim jittered lattice points, spacing 1: W1, or W4 with --dim 2) or "
+                    "uniform:N (N uniform points at density 1: W2)");
     cmd->add_option("--dim", args->dim, "Dimension of --generate points")->check(CLI::IsMember({2, 3}));
     cmd->add_option("--seed", args->seed, "Random seed of --generate");
     cmd->add_option("--grid", args->grid, "Grid kind")->check(CLI::IsMember({"auto", "uniform", "hash"}));

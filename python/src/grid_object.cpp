@@ -215,8 +215,9 @@ py::object grid_object::query_ball_point(const py::object& x, std::optional<doub
         g_);
 }
 
-py::tuple grid_object::query_knn(std::size_t k, const py::object& x) const {
-    if (k < 1) throw py::value_error("query_knn: k must be >= 1");
+py::tuple grid_object::query_knn(std::int64_t k, const py::object& x) const {
+    // Signed, so that a negative k reaches this check rather than pybind11's TypeError.
+    if (k < 1) throw py::value_error("query_knn: k must be >= 1, got " + std::to_string(k));
     list_options o;
     o.distances = true;
     o.order = row_order::distance;
@@ -224,9 +225,9 @@ py::tuple grid_object::query_knn(std::size_t k, const py::object& x) const {
         [&](auto& g) {
             using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
             constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
-            if (x.is_none()) return csr_to_numpy(read([&] { return g.nearest(k, o); }), true);
+            if (x.is_none()) return csr_to_numpy(read([&] { return g.nearest(std::size_t(k), o); }), true);
             const auto q = typed_points<T, D>(x, "x", true);
-            return csr_to_numpy(read([&] { return g.query_nearest(coords_of(q), k, o); }), true);
+            return csr_to_numpy(read([&] { return g.query_nearest(coords_of(q), std::size_t(k), o); }), true);
         },
         g_);
 }

@@ -10,6 +10,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <optional>
 #include <shared_mutex>
 #include <string>
@@ -38,7 +39,7 @@ public:
     py::array count_neighbors() const;
     py::object query_ball_point(const py::object& x, std::optional<double> r, bool return_distances,
                                 const py::object& sort, bool return_length) const;
-    py::tuple query_knn(std::size_t k, const py::object& x) const;
+    py::tuple query_knn(std::int64_t k, const py::object& x) const;
     void update(const py::object& points);
     py::array reorder(const py::object& array) const;
     py::array restore_order(const py::object& array) const;

@@ -130,7 +130,9 @@ Returns
 -------
 offsets, indices, distances : CSR arrays as in neighbors()
     Each row is sorted by distance, ties by index, and holds min(k, neighbors within r)
-    entries. ``cKDTree.query(x, k, distance_upper_bound=r)`` pads the same rows with inf.
+    entries. ``cKDTree.query(x, k, distance_upper_bound=b)`` keeps only distances < b
+    (strict): with b = r it drops the neighbors at exactly r that this keeps, with
+    b = numpy.nextafter(r, inf) it finds the same ones, padded with inf (docs/PYTHON.md).
 )";
 
 constexpr const char* update_doc = R"(Rebuild over new positions (the next time step).

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import frnn
-from conftest import POINT_SETS, csr_rows, exact, reference_rows, tree, uniform
+from conftest import POINT_SETS, csr_rows, exact, lattice, reference_rows, tree, uniform
 
 
 def other_points(points, box, seed):
@@ -100,16 +100,36 @@ def test_query_knn_matches_reference(name):
 
 
 def test_query_knn_agrees_with_ckdtree_query():
-    """cKDTree.query(k, distance_upper_bound=r) pads rows with inf: the same neighbors."""
+    """cKDTree.query(p, k + 1, distance_upper_bound=b) pads rows with inf and keeps only
+    distances < b (strict), the point itself first: with b the next double above r, the same
+    neighbors as query_knn(k)."""
     points = uniform(2000, 3, 10.0, 24)
     g = frnn.Grid(points, 1.0)
     k = 6
-    d, i = tree(points, None).query(points, k + 1, distance_upper_bound=1.0 + 1e-12)
+    d, i = tree(points, None).query(points, k + 1, distance_upper_bound=np.nextafter(1.0, np.inf))
     offsets, indices, dists = g.query_knn(k)
     for p in range(len(points)):
         keep = np.isfinite(d[p]) & (i[p] != p)
         np.testing.assert_array_equal(indices[offsets[p]:offsets[p + 1]], i[p][keep][:k])
         np.testing.assert_allclose(dists[offsets[p]:offsets[p + 1]], d[p][keep][:k], rtol=1e-12)
+
+
+def test_query_knn_keeps_ties_at_r_that_ckdtree_bound_r_drops():
+    """On an integer lattice with r = 1 every neighbor lies at exactly r: query_knn keeps them,
+    cKDTree.query(distance_upper_bound=r) finds none (its bound is strict), and the next double
+    above r finds the same ones."""
+    points = lattice(6, 3)
+    offsets, indices, dists = frnn.Grid(points, 1.0).query_knn(8)
+    assert np.all(dists == 1.0)
+    assert (np.diff(offsets).min(), np.diff(offsets).max()) == (3, 6)  # corners .. interior
+    t = tree(points, None)
+    d, _ = t.query(points, 9, distance_upper_bound=1.0)
+    assert np.all(d[:, 0] == 0) and np.all(np.isinf(d[:, 1:]))  # only the point itself
+    d, i = t.query(points, 9, distance_upper_bound=np.nextafter(1.0, np.inf))
+    for p in range(len(points)):
+        keep = np.isfinite(d[p]) & (i[p] != p)
+        # Equal distances: frnn's row is in index order.
+        np.testing.assert_array_equal(indices[offsets[p]:offsets[p + 1]], np.sort(i[p][keep]))
 
 
 def test_query_knn_of_other_points():

@@ -90,9 +90,9 @@ TEST(BenchBaselines, JitteredWorkloadsMatchOracle) {
     for (const char* id : {"W1", "W4"}) {
         const auto& w = fb::find_workload(id);
         if (w.dim == 3)
-            check_against_oracle<float, 3>(fb::generate<float>(w, 9), float(w.radius));
+            check_against_oracle<float, 3>(fb::generate<float>(w, 729), float(w.radius));  // side 9
         else
-            check_against_oracle<double, 2>(fb::generate<double>(w, 30), w.radius);
+            check_against_oracle<double, 2>(fb::generate<double>(w, 900), w.radius);  // side 30
     }
     const auto& w2 = fb::find_workload("W2");
     check_against_oracle<double, 3>(fb::generate<double>(w2, 1500), w2.radius);
@@ -109,7 +109,7 @@ TEST(BenchBaselines, DuplicatePointsAreNeighborsOfEachOther) {
 
 TEST(BenchBaselines, TextbookCellListRefusesHugeEmptySpace) {
     const auto& w5 = fb::find_workload("W5");
-    const auto p = fb::generate<float>(w5, 4);
+    const auto p = fb::generate<float>(w5, 65);  // side 4 and the outlier
     EXPECT_FALSE((fb::cell_list<float, 3>::cells_needed(p, 2.0f)));
     EXPECT_THROW((fb::cell_list<float, 3>(p, 2.0f)), frnn::error);
     // nanoflann has no such limit and still agrees with the oracle.

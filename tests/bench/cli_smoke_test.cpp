@@ -14,14 +14,14 @@
 #include "frnn/bench/report.hpp"
 #include "frnn/bench/results.hpp"
 #include "frnn/bench/workloads.hpp"
+#include "scratch_dir.hpp"
 
 #ifdef FRNN_TOOL_PATH
 
 namespace fb = frnn::bench;
+using frnn::test::scratch_dir;
 
 namespace {
-
-std::string work_file(const std::string& name) { return std::string(FRNN_TEST_WORK_DIR) + "/" + name; }
 
 int run(const std::string& args) {
     const std::string cmd = std::string("'") + FRNN_TOOL_PATH + "' " + args;
@@ -45,22 +45,18 @@ std::vector<std::string> split(const std::string& line, char sep) {
     return out;
 }
 
-std::uint64_t oracle_pairs(const std::string& id, std::size_t size) {
+std::uint64_t oracle_pairs(const std::string& id, std::size_t n) {
     const auto& w = fb::find_workload(id);
-    if (w.dim == 2) {
-        const auto p = fb::generate<float>(w, size);
-        return fb::brute_neighbor_lists<float, 2>(p, float(w.radius)).size();
-    }
-    const auto p = fb::generate<float>(w, size);
+    const auto p = fb::generate<float>(w, n);
+    if (w.dim == 2) return fb::brute_neighbor_lists<float, 2>(p, float(w.radius)).size();
     return fb::brute_neighbor_lists<float, 3>(p, float(w.radius)).size();
 }
 
-// Runs one smoke configuration and checks its CSV; returns the methods seen per workload.
-void smoke(const std::string& workloads, std::size_t size, const std::string& tag) {
-    const std::string csv = work_file("smoke_" + tag + ".csv"), md = work_file("smoke_" + tag + ".md");
-    std::remove(csv.c_str());
-    std::remove(md.c_str());
-    ASSERT_EQ(run("bench --workload " + workloads + " --n " + std::to_string(size) +
+// Runs one smoke configuration at `n` points and checks its CSV.
+void smoke(const std::string& workloads, std::size_t n, const std::string& tag) {
+    const scratch_dir dir("bench_smoke_" + tag);
+    const std::string csv = (dir / "smoke.csv").string(), md = (dir / "smoke.md").string();
+    ASSERT_EQ(run("bench --workload " + workloads + " --n " + std::to_string(n) +
                   " --threads 1,2 --repeat 1 --baselines --csv '" + csv + "' --markdown '" + md +
                   "' > /dev/null"),
               0);
@@ -78,7 +74,7 @@ void smoke(const std::string& workloads, std::size_t size, const std::string& ta
         const auto f = split(line, ',');
         ASSERT_EQ(f.size(), 8u) << line;
         const std::string& w = f[0];
-        EXPECT_EQ(std::stoull(f[1]), fb::point_count(fb::find_workload(w), size)) << line;
+        EXPECT_EQ(std::stoull(f[1]), fb::point_count(fb::find_workload(w), n)) << line;  // real count
         EXPECT_TRUE(f[2] == "1" || f[2] == "2") << line;
         EXPECT_TRUE(methods.count(f[3])) << line;
         EXPECT_TRUE(phases.count(f[4])) << line;
@@ -93,7 +89,7 @@ void smoke(const std::string& workloads, std::size_t size, const std::string& ta
     for (const auto& id : fb::parse_workload_list(workloads)) {
         SCOPED_TRACE(id);
         ASSERT_EQ(pairs[id].size(), 1u) << "methods disagree on the pair count";
-        EXPECT_EQ(*pairs[id].begin(), oracle_pairs(id, size));
+        EXPECT_EQ(*pairs[id].begin(), oracle_pairs(id, n));
         EXPECT_GT(*pairs[id].begin(), 0u);
         for (const char* key : {"frnn/build/1", "frnn/count/2", "frnn/list/1", "frnn/build+list/2",
                                 "frnn/update/2", "nanoflann/build+list/2", "brute/build+list/1"})
@@ -111,24 +107,36 @@ void smoke(const std::string& workloads, std::size_t size, const std::string& ta
 
 }  // namespace
 
-TEST(BenchCli, LatticeWorkloadsAgreeAcrossMethods) { smoke("W1,W4,W5", 8, "lattice"); }
+// 512 points: W1 8^3, W4 23^2 = 529, W5 8^3 + 1.
+TEST(BenchCli, LatticeWorkloadsAgreeAcrossMethods) { smoke("W1,W4,W5", 512, "lattice"); }
 
 TEST(BenchCli, PointCountWorkloadsAgreeAcrossMethods) { smoke("W2,W3", 3000, "points"); }
 
-TEST(BenchCli, OneSizePerWorkload) {
-    const std::string csv = work_file("smoke_sizes.csv");
-    ASSERT_EQ(run("bench --workload W1,W2 --n W1=5,W2=200 --threads 1 --repeat 1 --csv '" + csv +
-                  "' > /dev/null 2>&1"),
+TEST(BenchCli, OneSizePerWorkloadAsPointsOrSide) {
+    const scratch_dir dir("bench_sizes");
+    const std::string csv = (dir / "sizes.csv").string();
+    ASSERT_EQ(run("bench --workload W1,W2,W4 --n W1=120,W2=200 --side W4=3 --threads 1 --repeat 1 --csv '" +
+                  csv + "' > /dev/null 2>&1"),
               0);
     const std::string text = slurp(csv);
-    EXPECT_NE(text.find("\nW1,125,1,frnn,count,"), std::string::npos);
+    EXPECT_NE(text.find("\nW1,125,1,frnn,count,"), std::string::npos);  // 120 rounds to 5^3
     EXPECT_NE(text.find("\nW2,200,1,frnn,count,"), std::string::npos);
+    EXPECT_NE(text.find("\nW4,9,1,frnn,count,"), std::string::npos);  // side 3: 3^2
+    EXPECT_EQ(text.find("\nW4,1000000,"), std::string::npos);  // --side replaced the default
+}
+
+TEST(BenchCli, MarkdownNamesTheLatticeSide) {
+    const scratch_dir dir("bench_side");
+    const std::string md = (dir / "side.md").string();
+    ASSERT_EQ(run("bench --workload W1 --side 6 --threads 1 --repeat 1 --markdown '" + md + "' > /dev/null 2>&1"), 0);
+    EXPECT_NE(slurp(md).find("## W1 lattice: N = 216 (lattice side 6), 3D"), std::string::npos);
+    EXPECT_NE(slurp(md).find("--side 6"), std::string::npos);  // the recorded command line
 }
 
 TEST(BenchCli, PlotIsAPngOrSaysWhyNot) {
-    const std::string png = work_file("smoke.png"), log = work_file("smoke_plot.log");
-    std::remove(png.c_str());
-    ASSERT_EQ(run("bench --workload W1 --n 5,6 --threads 1 --repeat 1 --plot '" + png +
+    const scratch_dir dir("bench_plot");
+    const std::string png = (dir / "smoke.png").string(), log = (dir / "plot.log").string();
+    ASSERT_EQ(run("bench --workload W1 --n 125,216 --threads 1 --repeat 1 --plot '" + png +
                   "' > /dev/null 2> '" + log + "'"),
               0);
     if (std::system("command -v gnuplot > /dev/null 2>&1") == 0) {
@@ -141,14 +149,28 @@ TEST(BenchCli, PlotIsAPngOrSaysWhyNot) {
 }
 
 TEST(BenchCli, BadArgumentsFailCleanly) {
-    EXPECT_EQ(run("bench --workload W9 --n 4 > /dev/null 2>&1"), 1);
-    EXPECT_EQ(run("bench --workload W1 --n 0 > /dev/null 2>&1"), 1);
-    EXPECT_EQ(run("bench --workload W1 --n 4 --threads 0 > /dev/null 2>&1"), 1);
-    EXPECT_EQ(run("bench --workload W1 --n 4 --backend vulkan > /dev/null 2>&1"), 1);
-    EXPECT_EQ(run("bench --workload W1 --n 4 --repeat 0 > /dev/null 2>&1"), 2);
-    EXPECT_EQ(run("bench --workload W1 --n W2=1000 > /dev/null 2>&1"), 1);  // W2 not selected
+    const scratch_dir dir("bench_bad");
+    const std::string err = (dir / "stderr.txt").string();
+    // Runs frnn bench with `args`, expects exit `code` and a message holding `part`.
+    const auto fails = [&](const std::string& args, int code, const std::string& part) {
+        EXPECT_EQ(run("bench " + args + " > /dev/null 2> '" + err + "'"), code) << args;
+        EXPECT_NE(slurp(err).find(part), std::string::npos) << args << ": " << slurp(err);
+    };
+    fails("--workload W9 --n 4", 1, "unknown workload 'W9'");
+    fails("--workload W1 --n 0", 1, "workload W1: N = 0 gives no points");
+    fails("--workload W1 --n 4 --threads 0", 1, "--threads");
+    fails("--workload W1 --n 4 --backend vulkan", 1, "backend 'vulkan'");
+    fails("--workload W1 --n 4 --repeat 0", 2, "--repeat");
+    fails("--workload W1 --n W2=1000", 1, "--n gives sizes for W2");  // W2 not selected
+    fails("--workload W1 --n 4.5", 1, "--n: '4.5' is not a size (expected N or W2=N)");
+    fails("--workload W1 --side 1e3", 1, "--side: '1e3' is not a size (expected S or W1=S)");
+    fails("--workload W1,W2 --side W2=10", 1, "--side: W2 is not a lattice workload");
+    fails("--workload W1 --side W4=10", 1, "--side gives sides for W4");
+    fails("--workload W2 --side 10", 1, "--side needs a lattice workload");
+    fails("--workload W1 --side 0", 1, "workload W1: lattice side 0 gives no points");
+    fails("--workload W1 --side 2000", 1, "more than 2^32 - 2");
     // An unwritable output fails with a message and leaves no file behind.
-    EXPECT_EQ(run("bench --workload W1 --n 4 --repeat 1 --csv /nonexistent-dir/x.csv > /dev/null 2>&1"), 1);
+    fails("--workload W1 --n 4 --repeat 1 --csv /nonexistent-dir/x.csv", 1, "/nonexistent-dir/x.csv");
 }
 
 #endif  // FRNN_TOOL_PATH

@@ -27,7 +27,7 @@ TEST(measure, baseline_lists_built_by_threads_go_back_to_the_system) {
 #else
     namespace fb = frnn::bench;
     const fb::workload& w = fb::find_workload("W1");
-    const auto points = fb::generate<float>(w, 64);  // 262,144 points, 28 neighbors each
+    const auto points = fb::generate<float>(w, 262144);  // side 64, 28 neighbors each
     const fb::nanoflann_baseline<float, 3> tree(points, float(w.radius));
     fb::reset_peak_rss();
     const std::size_t before = resident_bytes();

@@ -5,9 +5,12 @@
 #include <cmath>
 
 #include "frnn/bench/workloads.hpp"
+#include "expect_error.hpp"
 #include "frnn/error.hpp"
 
 namespace fb = frnn::bench;
+
+using frnn::test::expect_error;
 
 TEST(BenchWorkloads, ListParsing) {
     EXPECT_EQ(fb::parse_workload_list("all"),
@@ -19,20 +22,54 @@ TEST(BenchWorkloads, ListParsing) {
 
 TEST(BenchWorkloads, DefaultSizesAreThoseOfTheTable) {
     const auto& w1 = fb::find_workload("W1");
-    std::vector<std::size_t> counts;
-    for (auto s : w1.sizes) counts.push_back(fb::point_count(w1, s));
+    std::vector<std::size_t> counts, sides;
+    for (auto n : w1.sizes) counts.push_back(fb::point_count(w1, n)), sides.push_back(fb::lattice_side(w1, n));
     EXPECT_EQ(counts, (std::vector<std::size_t>{32768, 262144, 1000000, 4096000}));
+    EXPECT_EQ(sides, (std::vector<std::size_t>{32, 64, 100, 160}));
     const auto& w2 = fb::find_workload("W2");
     EXPECT_EQ(w2.sizes, counts);  // "N as W1"
-    EXPECT_EQ(fb::point_count(fb::find_workload("W4"), 1000), 1000000u);
-    EXPECT_EQ(fb::point_count(fb::find_workload("W5"), 100), 1000001u);
-    EXPECT_THROW(fb::point_count(w1, 0), frnn::error);
-    EXPECT_THROW(fb::point_count(w1, 5000), frnn::error);  // beyond 32-bit indices
+    const auto& w4 = fb::find_workload("W4");
+    EXPECT_EQ(fb::point_count(w4, w4.sizes.at(0)), 1000000u);
+    EXPECT_EQ(fb::lattice_side(w4, w4.sizes.at(0)), 1000u);
+    const auto& w5 = fb::find_workload("W5");
+    EXPECT_EQ(fb::point_count(w5, w5.sizes.at(0)), 1000001u);
+    EXPECT_EQ(fb::point_count(fb::find_workload("W3"), 1000000), 1000000u);
+}
+
+TEST(BenchWorkloads, LatticeCountsRoundToTheNearestLattice) {
+    const auto& w1 = fb::find_workload("W1");
+    const auto& w4 = fb::find_workload("W4");
+    const auto& w5 = fb::find_workload("W5");
+    EXPECT_EQ(fb::point_count(w1, 1), 1u);
+    EXPECT_EQ(fb::point_count(w1, 1000), 1000u);
+    EXPECT_EQ(fb::point_count(w1, 1165), 1000u);  // 10^3 is 165 away, 11^3 166
+    EXPECT_EQ(fb::point_count(w1, 1166), 1331u);
+    EXPECT_EQ(fb::lattice_side(w1, 1166), 11u);
+    EXPECT_EQ(fb::point_count(w4, 50), 49u);
+    EXPECT_EQ(fb::point_count(w4, 57), 64u);
+    EXPECT_EQ(fb::lattice_side(w4, 57), 8u);
+    EXPECT_EQ(fb::point_count(w5, 1), 2u);  // side 1 and the outlier
+    EXPECT_EQ(fb::point_count(w5, 1000), 1001u);
+    EXPECT_EQ(fb::point_count(fb::find_workload("W2"), 1166), 1166u);
+    EXPECT_EQ(fb::lattice_side(fb::find_workload("W2"), 1166), 0u);
+    EXPECT_EQ(fb::side_count(w1, 7), 343u);
+    EXPECT_EQ(fb::side_count(w4, 7), 49u);
+    EXPECT_EQ(fb::side_count(w5, 7), 344u);
+    for (std::size_t side : {1u, 2u, 9u, 160u, 1000u}) EXPECT_EQ(fb::lattice_side(w4, fb::side_count(w4, side)), side);
+}
+
+TEST(BenchWorkloads, CountsOfNoneOrTooManyPointsAreErrors) {
+    const auto& w1 = fb::find_workload("W1");
+    expect_error([&] { (void)fb::point_count(w1, 0); }, {"workload W1: N = 0 gives no points"});
+    expect_error([&] { (void)fb::point_count(w1, 5'000'000'000); }, {"more than 2^32 - 2"});
+    expect_error([&] { (void)fb::side_count(w1, 0); }, {"workload W1: lattice side 0 gives no points"});
+    expect_error([&] { (void)fb::side_count(w1, 5000); }, {"more than 2^32 - 2"});
+    expect_error([&] { (void)fb::side_count(fb::find_workload("W2"), 5); }, {"W2 is not a lattice"});
 }
 
 TEST(BenchWorkloads, LatticeIsJitteredByAtMostATenth) {
     const auto& w = fb::find_workload("W1");
-    const auto p = fb::generate<double>(w, 7);
+    const auto p = fb::generate<double>(w, 343);
     ASSERT_EQ(p.size(), 7u * 7 * 7 * 3);
     double max_jitter = 0;
     for (std::size_t i = 0; i < 343; ++i) {
@@ -45,11 +82,12 @@ TEST(BenchWorkloads, LatticeIsJitteredByAtMostATenth) {
 
 TEST(BenchWorkloads, SameSeedSamePoints) {
     for (const auto& w : fb::all_workloads()) {
-        const std::size_t size = w.size_meaning == "points" ? 500 : 6;
-        const auto a = fb::generate<float>(w, size), b = fb::generate<float>(w, size);
+        const std::size_t n = 300;  // lattices round: W1 343, W4 289, W5 344
+        const auto a = fb::generate<float>(w, n), b = fb::generate<float>(w, n);
         EXPECT_EQ(a, b) << w.id;
-        EXPECT_EQ(a.size(), fb::point_count(w, size) * std::size_t(w.dim)) << w.id;
-        const auto d = fb::generate<double>(w, size);
+        EXPECT_EQ(a.size(), fb::point_count(w, n) * std::size_t(w.dim)) << w.id;
+        EXPECT_EQ(a.size() / std::size_t(w.dim), w.id == "W1" ? 343u : w.id == "W4" ? 289u : w.id == "W5" ? 344u : n);
+        const auto d = fb::generate<double>(w, n);
         for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], float(d[k])) << w.id << " " << k;
     }
 }
@@ -75,17 +113,17 @@ TEST(BenchWorkloads, ClustersHaveSigmaTwo) {
 }
 
 TEST(BenchWorkloads, PlaneIs2DAndOutlierIsLast) {
-    const auto plane = fb::generate<float>(fb::find_workload("W4"), 10);
+    const auto plane = fb::generate<float>(fb::find_workload("W4"), 100);
     EXPECT_EQ(plane.size(), 200u);
-    const auto w5 = fb::generate<double>(fb::find_workload("W5"), 5);
-    const auto w1 = fb::generate<double>(fb::find_workload("W1"), 5);
+    const auto w5 = fb::generate<double>(fb::find_workload("W5"), 126);
+    const auto w1 = fb::generate<double>(fb::find_workload("W1"), 125);
     ASSERT_EQ(w5.size(), w1.size() + 3);
     EXPECT_TRUE(std::equal(w1.begin(), w1.end(), w5.begin()));
     EXPECT_EQ(w5[w5.size() - 1], 1e7);
 }
 
 TEST(BenchWorkloads, MotionIsSmallAndNotZero) {
-    const auto p = fb::generate<float>(fb::find_workload("W1"), 6);
+    const auto p = fb::generate<float>(fb::find_workload("W1"), 216);
     const auto q = fb::moved_copy<float>(p);
     ASSERT_EQ(p.size(), q.size());
     double biggest = 0;
@@ -103,12 +141,29 @@ TEST(BenchWorkloads, MotionIsSmallAndNotZero) {
 TEST(BenchWorkloads, SizesForAllOrForOneWorkload) {
     fb::config cfg;
     fb::parse_sizes("", cfg);
+    fb::parse_sides("", cfg);
     EXPECT_EQ(fb::sizes_for(cfg, "W2"), fb::find_workload("W2").sizes);
-    fb::parse_sizes("8,w2=1000,6,W2=1000,W2=27", cfg);
-    EXPECT_EQ(fb::sizes_for(cfg, "W1"), (std::vector<std::size_t>{8, 6}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W5"), (std::vector<std::size_t>{1000001}));
+    // Point counts: lattices round (W4: 31^2 = 961 and 32^2 = 1024 around 1000), repeats go.
+    fb::parse_sizes("1000,w2=1000,343,W2=1000,W2=27,1001", cfg);
+    EXPECT_EQ(fb::sizes_for(cfg, "W1"), (std::vector<std::size_t>{1000, 343}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W2"), (std::vector<std::size_t>{1000, 27}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W3"), (std::vector<std::size_t>{1000, 343, 1001}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W4"), (std::vector<std::size_t>{1024, 361}));
+    // Sides add to the counts of the same reach; one workload's requests win over the rest.
+    fb::parse_sides("4,W1=5", cfg);
+    EXPECT_EQ(fb::sizes_for(cfg, "W1"), (std::vector<std::size_t>{125}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W4"), (std::vector<std::size_t>{1024, 361, 16}));
+    EXPECT_EQ(fb::sizes_for(cfg, "W5"), (std::vector<std::size_t>{1001, 344, 65}));
     EXPECT_EQ(fb::sizes_for(cfg, "W2"), (std::vector<std::size_t>{1000, 27}));
     for (const char* bad : {"x", "8,", "W9=4", "W1=", "-3", "4.5"}) {
         fb::config c;
         EXPECT_THROW(fb::parse_sizes(bad, c), frnn::error) << bad;
+        EXPECT_THROW(fb::parse_sides(bad, c), frnn::error) << bad;
     }
+    fb::config c;
+    expect_error([&] { (void)fb::parse_sides("W1=4,W3=5", c); }, {"--side: W3 is not a lattice workload"});
+    EXPECT_TRUE(c.workload_sides.empty());  // nothing taken from a rejected list
+    fb::parse_sizes("0", c);
+    expect_error([&] { (void)fb::sizes_for(c, "W1"); }, {"N = 0"});
 }

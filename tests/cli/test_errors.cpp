@@ -26,11 +26,10 @@ void expect_failure(const std::filesystem::path& dir, const std::string& args, i
 class cli_errors : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir = fresh_dir();
         write_points<double, 3>(dir / "p.npy", random_points<double, 3>(50, 3.0, 1));
         write_points<double, 2>(dir / "flat.csv", random_points<double, 2>(20, 3.0, 2));
     }
-    std::filesystem::path dir;
+    const scratch_dir dir = fresh_dir();
 };
 
 TEST_F(cli_errors, usage_errors_exit_2) {

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/run_tool.hpp"
+#include "frnn/bench/workloads.hpp"
 
 namespace frnn::test {
 namespace {
@@ -88,20 +89,25 @@ TEST(cli_query, csv_output_has_distances_in_input_precision) {
         EXPECT_NEAR(read.distances[k], expected[k], 1e-6f);  // float arithmetic, not double
 }
 
+// The tool's .npz output holds `lists` (rows sorted by index), distances within `tolerance`.
+void expect_npz_lists(const std::filesystem::path& file, const csr<double>& lists, double tolerance) {
+    const auto members = read_zip(read_bytes(file));
+    ASSERT_EQ(members.size(), 3u);
+    const auto offsets = npy_values<std::int64_t>(members.at("offsets.npy"), "<i8", {lists.rows() + 1});
+    const auto indices = npy_values<std::int64_t>(members.at("indices.npy"), "<i8", {lists.size()});
+    const auto distances = npy_values<double>(members.at("distances.npy"), "<f8", {lists.size()});
+    EXPECT_TRUE(std::equal(offsets.begin(), offsets.end(), lists.offsets.begin(), lists.offsets.end()));
+    EXPECT_TRUE(std::equal(indices.begin(), indices.end(), lists.indices.begin(), lists.indices.end()));
+    for (std::size_t k = 0; k < std::min(distances.size(), lists.size()); ++k)
+        EXPECT_NEAR(distances[k], lists.distances[k], tolerance) << k;
+}
+
 TEST(cli_query, npz_holds_full_sorted_lists) {
     const auto dir = fresh_dir();
     const auto xyz = random_points<double, 3>(250, 4.0, 7);
     write_points<double, 3>(dir / "p.npy", xyz);
     ASSERT_EQ(run_tool(dir, "query p.npy -r 1 -o out.npz").code, 0);
-    const csr<double> lists = brute_force_lists<double, 3>(xyz, xyz, 1.0, true);
-    const auto members = read_zip(read_bytes(dir / "out.npz"));
-    ASSERT_EQ(members.size(), 3u);
-    const auto offsets = npy_values<std::int64_t>(members.at("offsets.npy"), "<i8", {251});
-    const auto indices = npy_values<std::int64_t>(members.at("indices.npy"), "<i8", {lists.size()});
-    const auto distances = npy_values<double>(members.at("distances.npy"), "<f8", {lists.size()});
-    EXPECT_TRUE(std::equal(offsets.begin(), offsets.end(), lists.offsets.begin(), lists.offsets.end()));
-    EXPECT_TRUE(std::equal(indices.begin(), indices.end(), lists.indices.begin(), lists.indices.end()));
-    for (std::size_t k = 0; k < lists.size(); ++k) EXPECT_NEAR(distances[k], lists.distances[k], 1e-12);
+    expect_npz_lists(dir / "out.npz", brute_force_lists<double, 3>(xyz, xyz, 1.0, true), 1e-12);
 }
 
 TEST(cli_query, queries_from_another_file) {
@@ -190,45 +196,35 @@ TEST(cli_query, json_summary_parses_and_agrees) {
     for (const char* stage : {"read", "build", "query", "write"}) EXPECT_GE(j["time_ms"][stage].get<double>(), 0.0);
 }
 
-// BENCHMARKS.md workloads W1 (lattice) and W2 (uniform), rebuilt here from their definition.
-std::vector<double> workload(const std::string& kind, std::size_t n, int dim, std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::vector<double> xyz;
-    if (kind == "lattice") {
-        std::uniform_real_distribution<double> jitter(-0.1, 0.1);
-        for (std::size_t k = 0; k < (dim == 3 ? n : 1); ++k)
-            for (std::size_t j = 0; j < n; ++j)
-                for (std::size_t i = 0; i < n; ++i) {
-                    const double c[3] = {double(i), double(j), double(k)};
-                    for (int a = 0; a < dim; ++a) xyz.push_back(c[a] + jitter(rng));
-                }
-    } else {
-        std::uniform_real_distribution<double> u(0, std::pow(double(n), 1.0 / dim));
-        for (std::size_t k = 0; k < n * std::size_t(dim); ++k) xyz.push_back(u(rng));
-    }
-    return xyz;
-}
-
-TEST(cli_query, generated_point_sets) {
+// `--generate` draws the points of `frnn bench`'s workloads (W1 is lattice:N, W4 lattice:N
+// --dim 2, W2 uniform:N, at the default seed 42) and, at other seeds, of their generators: every
+// pair and its distance agree bit for bit with brute force over those points.
+TEST(cli_query, generated_point_sets_are_the_bench_workloads) {
     const auto dir = fresh_dir();
+    namespace fb = frnn::bench;
     struct run {
-        const char* spec;
-        const char* kind;
-        std::size_t n;
+        std::string spec;
+        std::vector<double> xyz;
         int dim;
-        std::uint64_t seed;
     };
-    for (const run& g : {run{"lattice:7", "lattice", 7, 3, 42}, run{"lattice:12 --dim 2 --seed 3", "lattice", 12, 2, 3},
-                         run{"uniform:500", "uniform", 500, 3, 42}}) {
-        const tool_result r = run_tool(dir, std::string("query --generate ") + g.spec + " --radius 2 -o out.npy --json");
+    const run runs[] = {
+        {"lattice:7", fb::generate<double>(fb::find_workload("W1"), 343), 3},
+        {"lattice:12 --dim 2", fb::generate<double>(fb::find_workload("W4"), 144), 2},
+        {"uniform:500", fb::generate<double>(fb::find_workload("W2"), 500), 3},
+        {"lattice:9 --dim 2 --seed 3", fb::jittered_lattice<double>(9, 2, 3), 2},
+        {"uniform:400 --dim 2 --seed 5", fb::uniform_cube<double>(400, 2, 5), 2},
+    };
+    for (const run& g : runs) {
+        SCOPED_TRACE(g.spec);
+        const tool_result r = run_tool(dir, "query --generate " + g.spec + " --radius 2 -o out.npz --json");
         ASSERT_EQ(r.code, 0) << r.err;
-        const auto xyz = workload(g.kind, g.n, g.dim, g.seed);
-        const auto expected = g.dim == 3 ? pairs_of(brute_force_lists<double, 3>(xyz, xyz, 2.0, true), true)
-                                         : pairs_of(brute_force_lists<double, 2>(xyz, xyz, 2.0, true), true);
-        EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected) << g.spec;
+        expect_npz_lists(dir / "out.npz",
+                         g.dim == 3 ? brute_force_lists<double, 3>(g.xyz, g.xyz, 2.0, true)
+                                    : brute_force_lists<double, 2>(g.xyz, g.xyz, 2.0, true),
+                         0.0);
         const auto j = nlohmann::json::parse(r.out);
-        EXPECT_EQ(j["points"], xyz.size() / std::size_t(g.dim));
-        EXPECT_EQ(j["input"], std::string(g.spec).substr(0, std::string(g.spec).find(' ')));
+        EXPECT_EQ(j["points"], g.xyz.size() / std::size_t(g.dim));
+        EXPECT_EQ(j["input"], g.spec.substr(0, g.spec.find(' ')));
     }
 }
 

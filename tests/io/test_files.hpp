@@ -2,7 +2,6 @@
 // expectations, and independent readers of npy arrays and zip archives (with their own CRC).
 #pragma once
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <charconv>
 #include <cstdint>
@@ -19,20 +18,19 @@
 #include "frnn/csr.hpp"
 #include "frnn/error.hpp"
 #include "frnn/io/read.hpp"
+#include "expect_error.hpp"
+#include "scratch_dir.hpp"
 
 namespace frnn::test {
 
-/// An empty folder named after the running test.
-inline std::filesystem::path fresh_dir() {
+/// An empty folder named after the running test, removed when the returned guard goes out of
+/// scope (keep it in a variable: `const auto dir = fresh_dir();`).
+inline scratch_dir fresh_dir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     std::string name = std::string(info->test_suite_name()) + "_" + info->name();
     for (char& c : name)
         if (c == '/') c = '_';
-    const auto dir = std::filesystem::path(::testing::TempDir()) /
-                     ("frnn_" + std::to_string(::getpid()) + "_" + name);
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
+    return scratch_dir(name);
 }
 
 inline void write_bytes(const std::filesystem::path& file, std::string_view bytes) {
@@ -46,19 +44,6 @@ inline std::string read_bytes(const std::filesystem::path& file) {
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
-}
-
-/// Expects f() to throw frnn::error whose message contains every part.
-template <class F>
-void expect_error(F&& f, std::initializer_list<std::string_view> parts) {
-    try {
-        f();
-        ADD_FAILURE() << "no frnn::error thrown";
-    } catch (const frnn::error& e) {
-        const std::string what = e.what();
-        for (std::string_view p : parts)
-            EXPECT_NE(what.find(p), std::string::npos) << "message '" << what << "' lacks '" << p << "'";
-    }
 }
 
 /// Appends the little-endian bytes of v.

@@ -118,7 +118,8 @@ TEST(npy_read, truncated_data) {
 TEST(npy_read, trailing_bytes) { expect_bad(f8_3, std::string(49, '\0'), {"1 unexpected bytes after the data"}); }
 TEST(npy_read, bad_magic) { expect_bad("", "", {"byte 0", "not an npy file"}, "PK\x03\x04 not numpy at all"); }
 TEST(npy_read, empty_file) {
-    const auto file = fresh_dir() / "empty.npy";
+    const auto dir = fresh_dir();
+    const auto file = dir / "empty.npy";
     write_bytes(file, "");
     expect_error([&] { io::read_points(file); }, {file.string(), "not an npy file"});
 }

@@ -100,7 +100,8 @@ TEST(ply_read, binary_float_file_reads_as_float) {
     std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
                     "property float y\nproperty float z\nend_header\n";
     for (float v : {1.f, 2.f, 3.f, 4.f, 5.f, 6.f}) put(s, v);
-    const auto file = fresh_dir() / "g.ply";
+    const auto dir = fresh_dir();
+    const auto file = dir / "g.ply";
     write_bytes(file, s);
     const io::point_set p = io::read_points(file);
     EXPECT_EQ(std::get<std::vector<float>>(p.coords), (std::vector<float>{1, 2, 3, 4, 5, 6}));

@@ -38,7 +38,8 @@ TEST(text_read, empty_inputs_give_zero_points) {
 }
 
 TEST(text_read, reads_files) {
-    const auto file = fresh_dir() / "f.csv";
+    const auto dir = fresh_dir();
+    const auto file = dir / "f.csv";
     write_bytes(file, "x,y\n1,2\n3,4\n");
     const io::point_set p = io::read_points(file);
     EXPECT_EQ(p.size(), 2u);

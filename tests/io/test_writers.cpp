@@ -44,7 +44,8 @@ TEST(npy_write, uint32) { npy_round_trip<std::uint32_t>("<u4"); }
 TEST(npy_write, uint64) { npy_round_trip<std::uint64_t>("<u8"); }
 
 TEST(npy_write, empty_array) {
-    const auto file = fresh_dir() / "e.npy";
+    const auto dir = fresh_dir();
+    const auto file = dir / "e.npy";
     io::write_npy<double>(file, std::span<const double>{});
     EXPECT_TRUE(npy_values<double>(read_bytes(file), "<f8", {0}).empty());
 }
@@ -73,7 +74,8 @@ TEST(pairs_write, npy_upper_and_all) {
 
 template <class T>
 void csv_round_trip() {
-    const auto file = fresh_dir() / "p.csv";
+    const auto dir = fresh_dir();
+    const auto file = dir / "p.csv";
     const csr<T> lists = sample_lists<T>();
     io::write_neighbors(file, lists, io::pair_filter::upper);
     const csv_pairs<T> read = parse_csv_pairs<T>(read_bytes(file));
@@ -97,7 +99,8 @@ TEST(pairs_write, csv_and_npz_need_distances) {
 
 template <class T>
 void npz_round_trip() {
-    const auto file = fresh_dir() / "lists.npz";
+    const auto dir = fresh_dir();
+    const auto file = dir / "lists.npz";
     const csr<T> lists = sample_lists<T>(true);
     io::write_csr_npz(file, lists);
     const auto members = read_zip(read_bytes(file));
@@ -115,7 +118,8 @@ TEST(npz_write, float_lists_read_back) { npz_round_trip<float>(); }
 TEST(npz_write, double_lists_read_back) { npz_round_trip<double>(); }
 
 TEST(npz_write, empty_lists) {
-    const auto file = fresh_dir() / "empty.npz";
+    const auto dir = fresh_dir();
+    const auto file = dir / "empty.npz";
     io::write_csr_npz(file, csr<double>{});
     const auto members = read_zip(read_bytes(file));
     ASSERT_EQ(members.size(), 3u);
@@ -126,7 +130,8 @@ TEST(npz_write, empty_lists) {
 TEST(npz_write, python_zipfile_accepts_the_archive) {
     const std::string python = python_with("zipfile");
     if (python.empty()) GTEST_SKIP() << "python3 not available";
-    const auto file = fresh_dir() / "lists.npz";
+    const auto dir = fresh_dir();
+    const auto file = dir / "lists.npz";
     io::write_csr_npz(file, sample_lists<double>());
     const std::string check = python + " -c \"import zipfile,sys; z=zipfile.ZipFile(sys.argv[1]); "
                               "assert z.testzip() is None; "

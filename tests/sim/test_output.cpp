@@ -1,7 +1,6 @@
 // Output: PNG round trip and rendering, VTK frames, the run directory, resume from a
 // checkpoint with no frame lost or duplicated, and the Chrome trace.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -12,8 +11,10 @@
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
 #include "frnn/sim/run.hpp"
+#include "scratch_dir.hpp"
 
 using namespace frnn::sim;
+using frnn::test::scratch_dir;
 namespace fs = std::filesystem;
 
 namespace {
@@ -22,11 +23,6 @@ std::string slurp(const fs::path& p) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
-}
-fs::path scratch(const std::string& name) {
-    const fs::path p = fs::temp_directory_path() / ("frnn_sim_test_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(p);
-    return p;
 }
 run_options quiet(const fs::path& dir) {
     run_options o;
@@ -64,7 +60,7 @@ TEST(SimOutput, PngRoundTrip) {
 }
 
 TEST(SimOutput, RunWritesFramesSeriesSummaryAndPictures) {
-    const fs::path dir = scratch("run");
+    const scratch_dir dir("sim_run");
     run_options o = quiet(dir);
     o.png = true;
     const auto r = run(builtin_scene_text("dam-break"), "dam-break", small(3, 3000, 12, 4), o);
@@ -93,11 +89,10 @@ TEST(SimOutput, RunWritesFramesSeriesSummaryAndPictures) {
     EXPECT_EQ(summary["steps"], 12);
     EXPECT_TRUE(summary["mean_ms_per_step"].contains("density relaxation"));
     EXPECT_TRUE(summary["mean_ms_per_step"].contains("grid build + reorder"));
-    fs::remove_all(dir);
 }
 
 TEST(SimOutput, ResumeLosesAndDuplicatesNoFrame) {
-    const fs::path full = scratch("full"), cut = scratch("cut");
+    const scratch_dir full("sim_full"), cut("sim_cut");
     const std::string text = builtin_scene_text("droplet");
     const auto ov = small(2, 800, 40, 4);
     run(text, "droplet", ov, quiet(full));
@@ -118,12 +113,10 @@ TEST(SimOutput, ResumeLosesAndDuplicatesNoFrame) {
         const std::string entry = std::string("frames/") + name;
         EXPECT_EQ(pvd.find(entry), pvd.rfind(entry)) << "duplicate " << name;
     }
-    fs::remove_all(full);
-    fs::remove_all(cut);
 }
 
 TEST(SimOutput, ChromeTraceHasSpansPerStageAndThread) {
-    const fs::path dir = scratch("trace");
+    const scratch_dir dir("sim_trace");
     run_options o = quiet(dir);
     o.trace_path = (dir / "trace.json").string();
     o.write_frames = false;
@@ -136,5 +129,4 @@ TEST(SimOutput, ChromeTraceHasSpansPerStageAndThread) {
         EXPECT_TRUE(seen.count({stage, 0})) << stage;
         EXPECT_TRUE(seen.count({stage, 1})) << stage;
     }
-    fs::remove_all(dir);
 }

@@ -2,15 +2,12 @@
 // 2D dam break's surge front follows Martin and Moyce's measurements.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
-#include <filesystem>
 
 #include "frnn/error.hpp"
-
 #include "frnn/sim/run.hpp"
 #include "frnn/sim/solver.hpp"
+#include "scratch_dir.hpp"
 
 using namespace frnn::sim;
 
@@ -69,7 +66,8 @@ TEST(SimPhysics, DamBreakFrontFollowsMartinMoyce) {
     o.particles = 800;  // the scene's default is 3200; coarser here to stay fast
     o.duration = 4.1 / std::sqrt(2 * 9.81 / 0.25);
     run_options opt;
-    opt.out_dir = (std::filesystem::temp_directory_path() / ("frnn_sim_test_front_" + std::to_string(::getpid()))).string();
+    const frnn::test::scratch_dir dir("sim_front");
+    opt.out_dir = dir.string();
     opt.progress = false;
     opt.print_table = false;
     opt.write_frames = false;
@@ -81,7 +79,6 @@ TEST(SimPhysics, DamBreakFrontFollowsMartinMoyce) {
     const double dev = front_deviation(r.front);
     EXPECT_EQ(dev, r.front_deviation);
     EXPECT_LT(dev, 0.2) << "mean relative deviation from Martin & Moyce over T in [1, 4]";
-    std::filesystem::remove_all(opt.out_dir);
 }
 
 TEST(SimPhysics, FrontDeviationOfTheReferenceItselfIsZero) {

@@ -36,8 +36,7 @@ struct memory_row {
 /// One workload at one size: what the report prints under one heading.
 struct case_info {
     std::string workload, name;
-    std::size_t size = 0;  ///< the --n value
-    std::string size_meaning;  ///< "lattice side" or "points"
+    std::size_t side = 0;  ///< side of a lattice workload's lattice; 0 for the others
     std::size_t n = 0;     ///< points
     int dim = 3;
     double radius = 0;

@@ -18,11 +18,15 @@ namespace frnn::bench {
 
 struct config {
     std::vector<std::string> workloads{"W1", "W2", "W3", "W4", "W5"};
-    /// Sizes applied to every workload (lattice side for W1/W4/W5, points for W2/W3);
-    /// empty: each workload's default sizes.
+    /// Point counts for every workload (--n; a lattice workload takes its nearest lattice
+    /// count); empty, and no `sides` either: each workload's default sizes.
     std::vector<std::size_t> sizes;
-    /// Sizes for one workload ("W2" -> {1000000}); they win over `sizes`.
+    /// Point counts for one workload ("W2" -> {1000000}); they win over `sizes` and `sides`.
     std::map<std::string, std::vector<std::size_t>> workload_sizes;
+    /// Lattice sides for every lattice workload (--side), beside `sizes`.
+    std::vector<std::size_t> sides;
+    /// Lattice sides for one lattice workload ("W1" -> {100}), beside `workload_sizes`.
+    std::map<std::string, std::vector<std::size_t>> workload_sides;
     std::vector<int> threads{1, 2};  ///< frnn grid threads (and nanoflann's query threads)
     int repeat = 5;                  ///< timed runs per phase, after one warm-up
     bool baselines = false;
@@ -34,11 +38,19 @@ struct config {
     std::ostream* progress = nullptr;  ///< one line per step, and the VOID lines
 };
 
-/// Parses the --n text into `cfg`: a comma list of sizes for every workload ("32,64") and/or
-/// for one workload ("W1=100,W2=1000000"). Throws frnn::error for anything else.
+/// Parses the --n text into `cfg`: a comma list of point counts for every workload
+/// ("32768,262144") and/or for one workload ("W1=1000000,W2=1000000"). Throws frnn::error for
+/// anything else.
 void parse_sizes(std::string_view text, config& cfg);
 
-/// The sizes `cfg` asks of workload `id`, in order, without repeats.
+/// Parses the --side text into `cfg`: lattice sides, for every lattice workload ("64") and/or
+/// for one ("W1=100"). Throws frnn::error for anything else, or a side for W2 or W3.
+void parse_sides(std::string_view text, config& cfg);
+
+/// The point counts `cfg` asks of workload `id`, as generated (lattices rounded), in order,
+/// without repeats: those named for `id` (--n W=N, --side W=S), else those for every workload
+/// (--n N, and --side S for a lattice workload), else its defaults. Throws frnn::error for a
+/// count of 0 or beyond 2^32 - 2.
 std::vector<std::size_t> sizes_for(const config& cfg, const std::string& id);
 
 /// Runs everything `cfg` asks for; throws frnn::error for bad settings or failures.

@@ -21,8 +21,8 @@ struct workload {
     std::string name;                  ///< "lattice", "uniform", ...
     int dim;                           ///< 2 or 3
     double radius;                     ///< search radius of the workload
-    std::vector<std::size_t> sizes;    ///< default sizes (see `size_meaning`)
-    std::string size_meaning;          ///< what --n sets: "lattice side" or "points"
+    std::vector<std::size_t> sizes;    ///< default point counts (rounded as point_count does)
+    bool lattice;                      ///< points on a jittered lattice (W1, W4, W5)
 };
 
 /// W1..W5 in order.
@@ -32,13 +32,30 @@ const workload& find_workload(std::string_view id);
 /// "all", one id, or a comma list ("W1,W2"); ids returned upper-case, in the order given.
 std::vector<std::string> parse_workload_list(std::string_view text);
 
-/// Number of points of `w` at `size` (n^3 for W1, n^2 for W4, n^3 + 1 for W5, size for W2/W3).
-/// Throws frnn::error when it is 0 or does not fit 32-bit indices.
-std::size_t point_count(const workload& w, std::size_t size);
+/// Number of points `w` generates when asked for `n`: n for W2 and W3; for the lattice
+/// workloads the lattice count nearest to n (side^3 for W1, side^2 for W4, side^3 + 1 for W5;
+/// consecutive counts differ by an odd number, so there is no tie). Throws frnn::error when it
+/// is 0 or beyond 2^32 - 2 points.
+std::size_t point_count(const workload& w, std::size_t n);
+/// Side of the lattice of `w` that point_count(w, n) points fill; 0 for W2 and W3.
+std::size_t lattice_side(const workload& w, std::size_t n);
+/// Number of points of `w`'s lattice of side `side`; throws frnn::error for W2 and W3, and as
+/// point_count does.
+std::size_t side_count(const workload& w, std::size_t side);
 
-/// The points of `w` at `size`: point_count * dim interleaved coordinates (x0 y0 [z0] x1 ...).
+/// The points of `w` asked for `n`: point_count(w, n) * dim interleaved coordinates
+/// (x0 y0 [z0] x1 ...).
 template <class T>
-std::vector<T> generate(const workload& w, std::size_t size);
+std::vector<T> generate(const workload& w, std::size_t n);
+
+/// The two point sets of the workloads, also behind `frnn query --generate`:
+/// side^dim points at integer positions (x fastest), each coordinate jittered by
+/// uniform(-0.1, 0.1) (W1, W4) ...
+template <class T>
+std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long seed);
+/// ... and `count` points uniform in the cube (square) of side count^(1/dim), density 1 (W2).
+template <class T>
+std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed);
 
 /// Seed of the workloads (BENCHMARKS.md) and of the "update" motion drawn after them.
 inline constexpr unsigned long long workload_seed = 42;
