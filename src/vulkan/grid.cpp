@@ -115,10 +115,12 @@ struct grid_state {
         buffer_view queries;  // rows * dim floats when external
         bool external;
     };
-    row_source own_rows() {
+    // A 16-byte buffer for bindings a shader variant does not use (Vulkan wants one bound).
+    buffer_view unused_binding() {
         ensure(dummy, 16, "unused binding");
-        return {n, dummy.view(0, 16), false};
+        return dummy.view(0, 16);
     }
+    row_source own_rows() { return {n, unused_binding(), false}; }
     row_source upload_queries(std::span<const float> q, const char* what);
     // Counts (capped) into `counts`: one dispatch, recorded.
     void record_count(std::uint32_t flags, std::uint32_t cap, const row_source& src);
@@ -202,13 +204,13 @@ void grid_state::configure_periodic(const grid_options& o, double cell, const do
                     std::to_string(o.periodic.size()));
     double cells = 1;
     for (int a = 0; a < dim; ++a) {
-        const double box = o.periodic[a];
-        if (!std::isfinite(box) || box < 2 * double(radius))
-            throw error("vulkan: periodic box length " + std::to_string(box) + " on axis " + std::to_string(a) +
+        const double length = o.periodic[a];
+        if (!std::isfinite(length) || length < 2 * double(radius))
+            throw error("vulkan: periodic box length " + std::to_string(length) + " on axis " + std::to_string(a) +
                         " is smaller than twice the radius (" + std::to_string(2 * double(radius)) + ")");
-        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
+        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= length * 0x1p30)
             throw error("vulkan: a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
-        params.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(box / cell), 0x1p30)));
+        params.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(length / cell), 0x1p30)));
         cells *= params.dims[a];
     }
     const double cap = std::max(8.0 * double(n), 4096.0);
@@ -372,7 +374,7 @@ void grid_state::fill_rows(const list_plan& p, const row_source& src, std::size_
     const auto g = grid_views();
     const buffer_view offsets = counts.view(0, (rows + 1) * 4);
     const buffer_view idx = indices.view(0, std::max<std::size_t>(chunk * 4, 4));
-    const buffer_view d2 = p.need_d2 ? dist2.view(0, std::max<std::size_t>(chunk * 4, 4)) : dummy.view(0, 16);
+    const buffer_view d2 = p.need_d2 ? dist2.view(0, std::max<std::size_t>(chunk * 4, 4)) : unused_binding();
     const std::uint32_t push[5] = {p.flags, p.cap, std::uint32_t(rows), std::uint32_t(r0), std::uint32_t(r1)};
     dev->begin();
     if (chunk > 0) {

@@ -140,6 +140,16 @@ TEST_F(vulkan_oracle, queries_from_other_points) {
     check_device<3>(ctx(), data3, 1.0f, periodic, qp);
     const auto data2 = uniform_points<float, 2>(800, 0, 20, 19);
     check_device<2>(ctx(), data2, 1.5f, grid_options{}, frnn::test::query_points<float, 2>(data2, 1.5, 200, {}, 20));
+    // Queries without distances as a fresh grid's first lists (their unused distance binding
+    // once had no buffer behind it).
+    grid<3> fresh(ctx());
+    fresh.build(data3, 1.0f);
+    list_options plain;
+    plain.order = row_order::index;
+    const auto rows = fresh.query(q3, plain);
+    const auto counts = fresh.query_counts(q3);
+    ASSERT_EQ(rows.rows(), counts.size());
+    for (std::size_t q = 0; q < counts.size(); ++q) EXPECT_EQ(rows.row(q).size(), counts[q]) << "query " << q;
     // An empty grid answers empty rows; an empty query set, no rows.
     grid<3> empty(ctx());
     empty.build(std::span<const float>(), 1.0f);
