@@ -42,6 +42,7 @@ struct grid_state {
     std::size_t slots = 1;
     grid_params params{};
     bool built = false;
+    bool candidates_only = false;  // set by the double-input search, which re-decides every pair
 
     buffer params_buf, own_pos, sorted_pos, sorted_cell, start, perm, inverse;
     buffer point_slot, point_rank, point_cell, tmp, scan_scratch, box;
@@ -235,6 +236,12 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
     built = false;
     if (!(r > 0) || !std::isfinite(r))
         throw error("vulkan::grid::build: radius must be positive and finite, got " + std::to_string(r));
+    // Above sqrt(FLT_MAX) the test d2 <= r*r would compare with +inf and accept pairs whose d2
+    // overflows too, however far apart: refused, never answered wrong. (Double input widens
+    // its candidate radius and decides on the host, where a superset of candidates is right.)
+    if (!std::isfinite(r * r) && !candidates_only)
+        throw error("vulkan::grid::build: radius " + std::to_string(r) + " squared overflows float, the device's "
+                    "precision (largest radius 1.8446743e19); use the CPU grid");
     if (o.cell_size != 0 && !(o.cell_size >= double(r) / 4 && o.cell_size <= double(r)))
         throw error("vulkan::grid::build: cell_size must lie in [r/4, r], got " + std::to_string(o.cell_size));
     if (count >= 0x7FFFFFFFu) throw error("vulkan::grid::build: too many points (" + std::to_string(count) + ")");
@@ -451,6 +458,8 @@ csr<float> grid_state::query_lists(std::span<const float> queries, std::size_t k
     }
     return lists_to_host(o, k, src, what);
 }
+
+void build_candidates_only(grid_state& g) { g.candidates_only = true; }
 
 }  // namespace detail
 
