@@ -14,6 +14,8 @@
 // order (rows of cells, then increasing original index), so sums are reproducible run to run.
 // frnn_begin(x) takes any point x, not only grid points (for queries from other points).
 // Cost: the (2*ceil(r/cell)+1)^d cells around x, ~27 cells' points in 3D with cell = r.
+// After the loop, it.done is true unless the driver stopped it early (lavapipe stops the loops
+// of a group of 8 invocations after 65535 iterations in all): test it to detect a cut result.
 // Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid; in a
 // periodic box they use the minimum image, d -= L * roundEven(d / L).
 #ifndef FRNN_GRID_GLSL

@@ -287,5 +287,23 @@ TEST_F(vulkan_api, search_covers_the_query_command) {
     same(search(ctx(), data, 3, 1.0f, {}, o, queries, 2).lists, cpu.query_nearest(queries, 2, o));
 }
 
+TEST_F(vulkan_api, loop_limits_fail_loudly) {
+    // 20,000 points within r of each other: each row loops over 20,000 candidates, more than
+    // lavapipe runs before stopping a group's loops (it then returned counts of 16,383). Either
+    // exact counts (a driver without the limit) or an error naming it, never cut counts.
+    const std::size_t n = 20000;
+    const auto pts = uniform_points<float, 3>(n, 0, 0.5, 61);
+    grid<3> g(ctx());
+    g.build(pts, 1.0f);
+    std::vector<std::uint32_t> counts;
+    const std::string err = error_of([&] { counts = g.count_neighbors(); });
+    if (counts.empty()) {
+        EXPECT_NE(err.find("stopped a shader loop"), std::string::npos) << err;
+    } else {
+        EXPECT_EQ(counts, std::vector<std::uint32_t>(n, std::uint32_t(n - 1)));
+    }
+    if (ctx().info().is_cpu) std::printf("%s: %s\n", ctx().info().name.c_str(), err.c_str());
+}
+
 }  // namespace
 }  // namespace frnn::vulkan::test
