@@ -159,8 +159,9 @@ struct grid_state {
     std::size_t pairs = 0, rows = 0;
 };
 
-// Chooses the grid like the CPU grid does: uniform over the bounding box (or the domain) when
-// its cell count is reasonable for N, hashed otherwise.
+// `automatic`: uniform over the bounding box (or the domain) when it needs at most
+// max(4N, 4096) cells, hashed otherwise. Unlike the CPU grid, no factor for cells smaller than
+// r and no uniform grid over the bulk with far outliers folded into its border cells.
 void grid_state::configure(const grid_options& o, const float* lo_in, const float* hi_in) {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
