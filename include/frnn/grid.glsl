@@ -14,6 +14,8 @@
 // order (rows of cells, then increasing original index), so sums are reproducible run to run.
 // frnn_begin(x) takes any point x, not only grid points (for queries from other points).
 // Cost: the (2*ceil(r/cell)+1)^d cells around x, ~27 cells' points in 3D with cell = r.
+// After the loop, it.done is true unless the driver stopped it early (lavapipe stops the loops
+// of a group of 8 invocations after 65535 iterations in all): test it to detect a cut result.
 // Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid; in a
 // periodic box they use the minimum image, d -= L * roundEven(d / L).
 #ifndef FRNN_GRID_GLSL
@@ -187,26 +189,38 @@ void frnn_load_row(inout frnn_iterator it) {
 frnn_iterator frnn_begin(frnn_vec x) {
     frnn_iterator it;
     it.x = x;
+    // Every accepted pair (d2 <= radius2 in float) has |x_a - y_a| <= r (1 + 4 * 2^-24) on each
+    // axis; `reach` is a little more.
+    precise float reach = frnn_grid.radius * (1.0 + 1.0 / 1048576.0);
     for (int a = 0; a < FRNN_DIM; ++a) {
-        // The margin covers the rounding of the cell coordinates of both points, so a pair
-        // within the radius is never missed (it may only widen the range by one cell).
-        const float u = frnn_cell_float(x[a], a);
-        const float reach = frnn_grid.radius * frnn_grid.inv_cell[a];
-        const float margin = 1e-3 + (abs(u) + reach) * (1.0 / 1048576.0);
         if (frnn_is_periodic()) {
+            // Wrapped coordinates are not monotone in x: a margin covers the rounding of both
+            // points' cell coordinates (u < dims, so it stays a fraction of a cell).
+            const float u = frnn_cell_float(x[a], a);
+            const float cells = frnn_grid.radius * frnn_grid.inv_cell[a];
+            const float margin = 1e-3 + (abs(u) + cells) * (1.0 / 1048576.0);
             const int dims = frnn_grid.dims[a];
-            const int lo = int(floor(u - reach - margin));
-            const int hi = int(floor(u + reach + margin));
+            const int lo = int(floor(u - cells - margin));
+            const int hi = int(floor(u + cells + margin));
             if (hi - lo + 1 >= dims) {
                 it.lo[a] = 0;  // the whole axis, each cell once
                 it.span[a] = dims;
             } else {
-                it.lo[a] = (lo + 8 * dims) % dims;  // lo >= -6: u >= 0, reach <= 4
+                it.lo[a] = (lo + 8 * dims) % dims;  // lo >= -6: u >= 0, cells <= 4
                 it.span[a] = hi - lo + 1;
             }
         } else {
-            it.lo[a] = frnn_clamp_cell(floor(u - reach - margin), a);
-            it.span[a] = frnn_clamp_cell(floor(u + reach + margin), a) - it.lo[a] + 1;
+            // The cell of a coordinate is monotone in it (rounded subtraction, multiplication,
+            // floor and clamp all are), so every float y in [x - reach, x + reach] lies in the
+            // cells of the two rounded ends: no margin, and a far point whose float spacing
+            // exceeds r searches one cell instead of a block that grows with |x| (which on
+            // lavapipe ran past its 65535 loop iterations per SIMD group and cut the loops of
+            // the other points of the group short). The ends stay finite: an infinite end
+            // would clamp to the last hashed cell and open a search of 2^30 cells.
+            precise float below = max(x[a] - reach, -3.40282347e38);
+            precise float above = min(x[a] + reach, 3.40282347e38);
+            it.lo[a] = frnn_clamp_cell(floor(frnn_cell_float(below, a)), a);
+            it.span[a] = frnn_clamp_cell(floor(frnn_cell_float(above, a)), a) - it.lo[a] + 1;
         }
     }
     it.step = frnn_ivec(0);

@@ -236,15 +236,28 @@ csr<float> neighbor_lists(std::span<const float> coords, int dim, float radius,
 /// interleaved, dim 2 or 3) and returns, like the CPU grid, the neighbor lists of every point
 /// (k == 0, no queries), their k nearest (k > 0), or the grid points around each query point
 /// (`queries` non-empty, with k == 0 or k > 0), with the grid's kind, size and timings.
-struct search_result {
-    csr<float> lists;
+template <class T>
+struct basic_search_result {
+    csr<T> lists;
     grid_kind kind = grid_kind::uniform;  ///< the kind the grid chose
     std::size_t cells = 0;                ///< cells (uniform) or table slots (hashed)
     double build_ms = 0, query_ms = 0;    ///< wall time, including uploads and downloads
 };
+using search_result = basic_search_result<float>;
 search_result search(context& ctx, std::span<const float> coords, int dim, float radius,
                      const grid_options& grid = {}, const list_options& lists = {},
                      std::span<const float> queries = {}, std::size_t k = 0);
+/// The same for double input, answered in double: the device (float) finds candidates within
+/// a radius widened by a bound on the rounding of the conversion to float, and the host keeps
+/// those whose double distance, computed as frnn::grid<double, D> computes it, is <= radius.
+/// So the pairs, distances and orders are those of the CPU grid in double. Lists are in the
+/// caller's numbering (index_space::sorted is refused: a one-call search returns no cell
+/// order). frnn::error naming the backend and the precision when the device cannot bound the
+/// candidates: a coordinate beyond the float range, or a conversion error above the radius
+/// (coordinates too large for this radius in float: about |x| > 2^21 r / sqrt(dim)).
+basic_search_result<double> search(context& ctx, std::span<const double> coords, int dim, double radius,
+                                   const grid_options& grid = {}, const list_options& lists = {},
+                                   std::span<const double> queries = {}, std::size_t k = 0);
 
 /// Neighbor counts of N*dim interleaved host coordinates, on the context's device.
 std::vector<std::uint32_t> count_neighbors(context& ctx, std::span<const float> coords, int dim,

@@ -90,7 +90,6 @@ void fail_call(VkResult result, const char* call, const char* file, int line) {
 
 buffer::buffer(device& dev, VkDeviceSize bytes, kind k, const std::string& what) : dev_(&dev) {
     bytes = std::max(bytes, min_buffer_bytes);
-    const auto& limits = dev.properties().limits;
     if (k == kind::storage && bytes > dev.info().max_storage_buffer_range)
         throw error("vulkan: " + what + " needs " + std::to_string(bytes) +
                     " bytes, more than this device's maxStorageBufferRange of " +

@@ -42,10 +42,11 @@ struct grid_state {
     std::size_t slots = 1;
     grid_params params{};
     bool built = false;
+    bool candidates_only = false;  // set by the double-input search, which re-decides every pair
 
     buffer params_buf, own_pos, sorted_pos, sorted_cell, start, perm, inverse;
     buffer point_slot, point_rank, point_cell, tmp, scan_scratch, box;
-    buffer counts, indices, dist2, dummy, query_pos;
+    buffer counts, indices, dist2, dummy, query_pos, status;
     buffer_view pos;  // the input coordinates (own_pos or the caller's buffer)
 
     // Grows (never shrinks) a scratch buffer so rebuilds and repeated queries reuse memory.
@@ -115,9 +116,29 @@ struct grid_state {
         buffer_view queries;  // rows * dim floats when external
         bool external;
     };
-    row_source own_rows() {
+    // A 16-byte buffer for bindings a shader variant does not use (Vulkan wants one bound).
+    buffer_view unused_binding() {
         ensure(dummy, 16, "unused binding");
-        return {n, dummy.view(0, 16), false};
+        return dummy.view(0, 16);
+    }
+    row_source own_rows() { return {n, unused_binding(), false}; }
+
+    // The shaders' loop-cut flag (common.glsl): cleared in a submission before the shaders
+    // that may set it, read after it.
+    buffer_view status_word() {
+        ensure(status, 4, "loop status");
+        return status.view(0, 4);
+    }
+    void clear_status() { dev->fill(status_word(), 0u); }
+    void check_status(const char* what) {
+        std::uint32_t cut = 0;
+        dev->download(status_word(), &cut, 4);
+        if (cut)
+            throw error(std::string("vulkan::grid::") + what + ": the driver stopped a shader loop before its end "
+                        "(lavapipe stops the loops of each group of 8 invocations after 65535 iterations in all): "
+                        "rows of more than about 16,000 candidates, cells of more than 65,535 points or device-"
+                        "sorted rows of more than about 5,000 neighbors exceed it; use a smaller radius or cell, "
+                        "or the CPU grid");
     }
     row_source upload_queries(std::span<const float> q, const char* what);
     // Counts (capped) into `counts`: one dispatch, recorded.
@@ -129,7 +150,8 @@ struct grid_state {
         std::uint32_t flags, cap, sort;  // sort: 0 none, 1 by index, 2 by distance
     };
     list_plan plan(const list_options& o, std::size_t k, const row_source& src) const;
-    void fill_rows(const list_plan& p, const row_source& src, std::size_t r0, std::size_t r1, std::size_t chunk);
+    void fill_rows(const list_plan& p, const row_source& src, std::size_t r0, std::size_t r1, std::size_t chunk,
+                   const char* what);
     std::string too_many_pairs(const char* what, std::size_t count) const;
     void lists_on_device(const list_options& o, std::size_t k, const row_source& src, const char* what);
     csr<float> lists_to_host(const list_options& o, std::size_t k, const row_source& src, const char* what);
@@ -137,8 +159,9 @@ struct grid_state {
     std::size_t pairs = 0, rows = 0;
 };
 
-// Chooses the grid like the CPU grid does: uniform over the bounding box (or the domain) when
-// its cell count is reasonable for N, hashed otherwise.
+// `automatic`: uniform over the bounding box (or the domain) when it needs at most
+// max(4N, 4096) cells, hashed otherwise. Unlike the CPU grid, no factor for cells smaller than
+// r and no uniform grid over the bulk with far outliers folded into its border cells.
 void grid_state::configure(const grid_options& o, const float* lo_in, const float* hi_in) {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
@@ -202,13 +225,13 @@ void grid_state::configure_periodic(const grid_options& o, double cell, const do
                     std::to_string(o.periodic.size()));
     double cells = 1;
     for (int a = 0; a < dim; ++a) {
-        const double box = o.periodic[a];
-        if (!std::isfinite(box) || box < 2 * double(radius))
-            throw error("vulkan: periodic box length " + std::to_string(box) + " on axis " + std::to_string(a) +
+        const double length = o.periodic[a];
+        if (!std::isfinite(length) || length < 2 * double(radius))
+            throw error("vulkan: periodic box length " + std::to_string(length) + " on axis " + std::to_string(a) +
                         " is smaller than twice the radius (" + std::to_string(2 * double(radius)) + ")");
-        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
+        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= length * 0x1p30)
             throw error("vulkan: a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
-        params.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(box / cell), 0x1p30)));
+        params.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(length / cell), 0x1p30)));
         cells *= params.dims[a];
     }
     const double cap = std::max(8.0 * double(n), 4096.0);
@@ -233,6 +256,12 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
     built = false;
     if (!(r > 0) || !std::isfinite(r))
         throw error("vulkan::grid::build: radius must be positive and finite, got " + std::to_string(r));
+    // Above sqrt(FLT_MAX) the test d2 <= r*r would compare with +inf and accept pairs whose d2
+    // overflows too, however far apart: refused, never answered wrong. (Double input widens
+    // its candidate radius and decides on the host, where a superset of candidates is right.)
+    if (!std::isfinite(r * r) && !candidates_only)
+        throw error("vulkan::grid::build: radius " + std::to_string(r) + " squared overflows float, the device's "
+                    "precision (largest radius 1.8446743e19); use the CPU grid");
     if (o.cell_size != 0 && !(o.cell_size >= double(r) / 4 && o.cell_size <= double(r)))
         throw error("vulkan::grid::build: cell_size must lie in [r/4, r], got " + std::to_string(o.cell_size));
     if (count >= 0x7FFFFFFFu) throw error("vulkan::grid::build: too many points (" + std::to_string(count) + ")");
@@ -287,6 +316,7 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
     const std::uint32_t c = std::uint32_t(n);
     const auto n4 = [&](std::size_t per) { return std::max<std::size_t>(n * per * 4, 4); };
     dev->begin();
+    clear_status();
     dev->update(params_buf.view(0, sizeof(grid_params)), &params, sizeof(grid_params));
     dev->fill(start.view(0, (slots + 1) * 4), 0u);
     if (n > 0) {
@@ -302,10 +332,11 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
         dev->dispatch(dev->get(shader::stable, dim),
                       {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
                        point_cell.view(0, n4(dim)), perm.view(0, n4(1)), inverse.view(0, n4(1)),
-                       sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim))},
+                       sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim)), status_word()},
                       &c, 4, groups_for(n, group_size));
     }
     dev->submit();
+    check_status("build");
     built = true;
 }
 
@@ -332,7 +363,8 @@ void grid_state::record_count(std::uint32_t f, std::uint32_t cap, const row_sour
     const auto g = grid_views();
     const std::uint32_t push[3] = {f | (src.external ? flag_external : 0u), cap, std::uint32_t(src.rows)};
     dev->dispatch(dev->get(shader::count, dim, kind_code()),
-                  {g[0], g[1], g[2], g[3], g[4], counts.view(0, src.rows * 4), src.queries}, push, sizeof(push),
+                  {g[0], g[1], g[2], g[3], g[4], counts.view(0, src.rows * 4), src.queries, status_word()}, push,
+                  sizeof(push),
                   groups_for(src.rows, group_size));
 }
 
@@ -342,10 +374,12 @@ std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const
     ensure(counts, rows_bytes, "neighbor counts");
     ensure(scan_scratch, scan_scratch_bytes(rows + 1), "scan scratch");
     dev->begin();
+    clear_status();
     dev->fill(counts.view(0, rows_bytes), 0u);
     record_count(f, cap, src);
     record_scan(counts.view(0, rows_bytes), rows + 1, 0);
     dev->submit();
+    check_status(what);
     std::uint32_t total = 0;
     dev->download(counts.view(rows * 4, 4), &total, 4);
     if (total == 0xFFFFFFFFu)
@@ -366,26 +400,28 @@ grid_state::list_plan grid_state::plan(const list_options& o, std::size_t k, con
 // Fills rows [r0, r1) (whose pairs, `chunk` of them, start at offsets[r0]) into the start of
 // the index and distance buffers, sorting them when asked.
 void grid_state::fill_rows(const list_plan& p, const row_source& src, std::size_t r0, std::size_t r1,
-                           std::size_t chunk) {
+                           std::size_t chunk, const char* what) {
     ensure(indices, chunk * 4, "neighbor indices");
     if (p.need_d2) ensure(dist2, chunk * 4, "neighbor distances");
     const auto g = grid_views();
     const buffer_view offsets = counts.view(0, (rows + 1) * 4);
     const buffer_view idx = indices.view(0, std::max<std::size_t>(chunk * 4, 4));
-    const buffer_view d2 = p.need_d2 ? dist2.view(0, std::max<std::size_t>(chunk * 4, 4)) : dummy.view(0, 16);
+    const buffer_view d2 = p.need_d2 ? dist2.view(0, std::max<std::size_t>(chunk * 4, 4)) : unused_binding();
     const std::uint32_t push[5] = {p.flags, p.cap, std::uint32_t(rows), std::uint32_t(r0), std::uint32_t(r1)};
     dev->begin();
+    clear_status();
     if (chunk > 0) {
         dev->dispatch(dev->get(p.nearest ? shader::knn : shader::fill, dim, kind_code()),
-                      {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2, src.queries}, push, sizeof(push),
-                      groups_for(rows, group_size));
+                      {g[0], g[1], g[2], g[3], g[4], offsets, idx, d2, src.queries, status_word()}, push,
+                      sizeof(push), groups_for(rows, group_size));
         if (p.sort) {
             const std::uint32_t sp[4] = {std::uint32_t(r1 - r0), p.sort, p.need_d2 ? 1u : 0u, std::uint32_t(r0)};
-            dev->dispatch(dev->get(shader::sort_rows, dim), {offsets, idx, d2}, sp, sizeof(sp),
+            dev->dispatch(dev->get(shader::sort_rows, dim), {offsets, idx, d2, status_word()}, sp, sizeof(sp),
                           groups_for(r1 - r0, group_size));
         }
     }
     dev->submit();
+    check_status(what);
 }
 
 std::string grid_state::too_many_pairs(const char* what, std::size_t count) const {
@@ -402,7 +438,7 @@ void grid_state::lists_on_device(const list_options& o, std::size_t k, const row
     if (pairs * 4 > dev->info().max_storage_buffer_range)
         throw error(too_many_pairs(what, pairs) + "; use the host results (split automatically), query fewer "
                                                    "points or a smaller radius");
-    fill_rows(p, src, 0, rows, pairs);
+    fill_rows(p, src, 0, rows, pairs, what);
 }
 
 // Lists to the host: rows are filled in chunks whose pairs fit one storage buffer, so results
@@ -425,7 +461,7 @@ csr<float> grid_state::lists_to_host(const list_options& o, std::size_t k, const
                         off.begin()) - 1;
         if (r1 == r0) throw error(too_many_pairs(what, off[r0 + 1] - off[r0]) + " in row " + std::to_string(r0));
         const std::size_t chunk = off[r1] - off[r0];
-        fill_rows(p, src, r0, r1, chunk);
+        fill_rows(p, src, r0, r1, chunk, what);
         dev->download(indices.view(0, chunk * 4), out.indices.data() + off[r0], chunk * 4);
         if (o.distances) {
             float* d = out.distances.data() + off[r0];
@@ -449,6 +485,8 @@ csr<float> grid_state::query_lists(std::span<const float> queries, std::size_t k
     }
     return lists_to_host(o, k, src, what);
 }
+
+void build_candidates_only(grid_state& g) { g.candidates_only = true; }
 
 }  // namespace detail
 
@@ -515,8 +553,10 @@ std::vector<std::uint32_t> grid<D>::count_neighbors(index_space space) const {
     o.space = space;
     s.ensure(s.counts, (s.n + 1) * 4, "neighbor counts");
     s.dev->begin();
+    s.clear_status();
     s.record_count(s.flags(o), 0xFFFFFFFFu, s.own_rows());
     s.dev->submit();
+    s.check_status("count_neighbors");
     s.dev->download(s.counts.view(0, s.n * 4), out.data(), s.n * 4);
     return out;
 }
@@ -556,8 +596,10 @@ std::vector<std::uint32_t> grid<D>::query_counts(std::span<const float> queries)
     if (src.rows == 0 || s.n == 0) return out;
     s.ensure(s.counts, (src.rows + 1) * 4, "neighbor counts");
     s.dev->begin();
+    s.clear_status();
     s.record_count(s.flags(list_options{}), 0xFFFFFFFFu, src);
     s.dev->submit();
+    s.check_status("query_counts");
     s.dev->download(s.counts.view(0, src.rows * 4), out.data(), src.rows * 4);
     return out;
 }

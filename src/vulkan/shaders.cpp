@@ -43,11 +43,11 @@ embedded_shader embedded(shader s, int dim) {
         case shader::scan_block: return FRNN_ONE(scan_block, 2);
         case shader::scan_add: return FRNN_ONE(scan_add, 2);
         case shader::scatter: return FRNN_ONE(scatter, 4);
-        case shader::stable: return FRNN_BY_DIM(stable, 9);
-        case shader::count: return FRNN_BY_DIM(count, 7);
-        case shader::fill: return FRNN_BY_DIM(fill, 9);
-        case shader::knn: return FRNN_BY_DIM(knn, 9);
-        case shader::sort_rows: return FRNN_ONE(sort_rows, 3);
+        case shader::stable: return FRNN_BY_DIM(stable, 10);
+        case shader::count: return FRNN_BY_DIM(count, 8);
+        case shader::fill: return FRNN_BY_DIM(fill, 10);
+        case shader::knn: return FRNN_BY_DIM(knn, 10);
+        case shader::sort_rows: return FRNN_ONE(sort_rows, 4);
     }
 #undef FRNN_BY_DIM
 #undef FRNN_ONE

@@ -61,6 +61,10 @@ TEST_F(vulkan_api, rejects_bad_input_with_reasons) {
     EXPECT_NE(error_of([&] { g.build(pts, 1.0f); }).find("point 7"), std::string::npos);
     pts[7 * 3 + 1] = 1.0f;
     EXPECT_NE(error_of([&] { g.build(pts, -1.0f); }).find("radius"), std::string::npos);
+    // r * r overflows float from 1.8446744e19: refused rather than compared with +inf.
+    EXPECT_NE(error_of([&] { g.build(pts, 1.8446744e19f); }).find("squared overflows float"), std::string::npos);
+    g.build(pts, 1.8446743e19f);
+    EXPECT_EQ(g.count_neighbors(), std::vector<std::uint32_t>(100, 99));
     grid_options periodic;
     periodic.periodic = {5, 1.5, 5};
     EXPECT_NE(error_of([&] { g.build(pts, 1.0f, periodic); }).find("twice the radius"), std::string::npos);
@@ -281,6 +285,24 @@ TEST_F(vulkan_api, search_covers_the_query_command) {
     same(search(ctx(), data, 3, 1.0f, {}, o, {}, 4).lists, cpu.nearest(4, o));
     same(search(ctx(), data, 3, 1.0f, {}, o, queries).lists, cpu.query(queries, o));
     same(search(ctx(), data, 3, 1.0f, {}, o, queries, 2).lists, cpu.query_nearest(queries, 2, o));
+}
+
+TEST_F(vulkan_api, loop_limits_fail_loudly) {
+    // 20,000 points within r of each other: each row loops over 20,000 candidates, more than
+    // lavapipe runs before stopping a group's loops (it then returned counts of 16,383). Either
+    // exact counts (a driver without the limit) or an error naming it, never cut counts.
+    const std::size_t n = 20000;
+    const auto pts = uniform_points<float, 3>(n, 0, 0.5, 61);
+    grid<3> g(ctx());
+    g.build(pts, 1.0f);
+    std::vector<std::uint32_t> counts;
+    const std::string err = error_of([&] { counts = g.count_neighbors(); });
+    if (counts.empty()) {
+        EXPECT_NE(err.find("stopped a shader loop"), std::string::npos) << err;
+    } else {
+        EXPECT_EQ(counts, std::vector<std::uint32_t>(n, std::uint32_t(n - 1)));
+    }
+    if (ctx().info().is_cpu) std::printf("%s: %s\n", ctx().info().name.c_str(), err.c_str());
 }
 
 }  // namespace

@@ -1,211 +1,134 @@
-// Compares every query of frnn::vulkan::grid<D> with the brute-force oracle: neighbor counts,
-// lists for every combination of half/self/space/order (with and without distances), and k
-// nearest. Distances must match bit for bit (same float formula, precise arithmetic on the
-// device, sqrt on the host).
+// The CPU oracle checker's comparisons (tests/oracle/oracle_check.hpp: reference rows, their
+// renumbering and filtering by list_options, compare_csr), run on frnn::vulkan::grid<D>: the
+// device is held to exactly what the CPU grid is held to, row for row and distance for distance.
+// Paths the device lacks (callbacks, reorder) are the CPU's alone; everything else is checked:
+// the permutation, counts in both numberings, lists for every list_options combination (or
+// each value once at depth::basic), k nearest, and queries from other points (counts, lists,
+// k nearest).
 #pragma once
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <numeric>
+#include <span>
 #include <string>
 #include <vector>
 
-#include "frnn/brute_force.hpp"
 #include "frnn/vulkan.hpp"
+#include "oracle/oracle_check.hpp"
 
 namespace frnn::vulkan::test {
 
-struct entry {
-    float d2;
-    std::uint32_t index;
-    float distance;
-};
+using frnn::test::depth;
 
+/// Empty when got[i] == want(i) for all n rows, else the first difference.
+template <class Want>
+std::string count_mismatch(const std::vector<std::uint32_t>& got, std::size_t n, const char* row, Want want) {
+    if (got.size() != n) return std::to_string(got.size()) + " counts for " + std::to_string(n) + " rows";
+    for (std::size_t i = 0; i < n; ++i)
+        if (got[i] != want(i))
+            return std::string(row) + " " + std::to_string(i) + ": " + std::to_string(got[i]) + " != oracle " +
+                   std::to_string(want(i));
+    return {};
+}
+
+/// Checks every query path of the device grid `g`, built over `coords` with `radius` and the
+/// periodic box `periodic`, and queries from `queries`, against the brute-force oracle.
+/// Failures are reported with ADD_FAILURE, one per path at most.
 template <int D>
-class oracle_checker {
-public:
-    oracle_checker(context& ctx, const std::vector<float>& pts, float radius,
-                   const grid_options& options, std::string label)
-        : pts_(pts), radius_(radius), n_(pts.size() / D), g_(ctx), label_(std::move(label)),
-          periodic_(options.periodic) {
-        ref_ = brute_force_lists<float, D>(pts_, pts_, radius_, true, periodic_);
-        g_.build(pts_, radius_, options);
-        perm_ = g_.sorted_to_original();
-    }
-
-    grid<D>& device_grid() { return g_; }
-
-    // sorted_to_original must be a permutation; builds inv_.
-    void check_permutation() {
-        ASSERT_EQ(perm_.size(), n_) << label_;
-        inv_.assign(n_, 0xFFFFFFFFu);
-        for (std::size_t s = 0; s < n_; ++s) {
-            ASSERT_LT(perm_[s], n_) << label_;
-            ASSERT_EQ(inv_[perm_[s]], 0xFFFFFFFFu) << label_ << ": sorted_to_original is not a permutation";
-            inv_[perm_[s]] = std::uint32_t(s);
+void check_device_grid(const grid<D>& g, std::span<const float> coords, float radius,
+                       std::span<const double> periodic, std::span<const float> queries,
+                       depth level = depth::full) {
+    namespace t = frnn::test;
+    const std::size_t n = coords.size() / D;
+    const bool full = level == depth::full;
+    auto fail = [](const std::string& path, const std::string& msg) {
+        if (!msg.empty()) {
+            ADD_FAILURE() << path << ": " << msg;
         }
+        return !msg.empty();
+    };
+    if (g.size() != n) {
+        ADD_FAILURE() << "size() " << g.size() << " != " << n;
+        return;
+    }
+    const auto perm = g.sorted_to_original();
+    std::vector<std::uint32_t> inv(n, 0xFFFFFFFFu);
+    for (std::size_t s = 0; s < n; ++s) {
+        if (perm[s] >= n || inv[perm[s]] != 0xFFFFFFFFu) {
+            ADD_FAILURE() << "sorted_to_original is not a permutation (sorted " << s << ")";
+            return;
+        }
+        inv[perm[s]] = std::uint32_t(s);
+    }
+    const t::rows_t<float> ref = t::reference_rows<float, D>(coords, coords, radius, true, periodic);
+
+    for (auto space : {index_space::original, index_space::sorted})
+        fail(std::string("count_neighbors(") + t::name(space) + ")",
+             count_mismatch(g.count_neighbors(space), n, "point",
+                            [&](std::size_t i) { return ref[space == index_space::sorted ? perm[i] : i].size(); }));
+
+    for (const list_options& o : full ? t::all_list_options() : t::basic_list_options()) {
+        const auto want = t::expected_self_rows<float>(ref, perm, inv, o);
+        fail("neighbor_lists(" + t::describe(o) + ")", t::compare_csr<float>(g.neighbor_lists(o), want, o.distances, o.order));
     }
 
-    // Expected row q (in the chosen space), sorted by (d2, index) or by index.
-    std::vector<entry> expected_row(std::size_t q, const list_options& o, bool by_distance) const {
-        const bool sorted = o.space == index_space::sorted;
-        const std::size_t i = sorted ? perm_[q] : q;
-        std::vector<entry> row;
-        auto add = [&](std::uint32_t j, float dist) {
-            const std::uint32_t out = sorted ? inv_[j] : j;
-            if (o.half && out <= q && j != i) return;  // self stays with half, as on the CPU
-            const float d2 = brute_distance_squared<float, D>(&pts_[i * D], &pts_[std::size_t(j) * D], periodic_);
-            row.push_back({d2, out, dist});
-        };
-        if (o.self) add(std::uint32_t(i), 0.0f);
-        for (std::uint64_t k = ref_.offsets[i]; k < ref_.offsets[i + 1]; ++k) add(ref_.indices[k], ref_.distances[k]);
-        std::sort(row.begin(), row.end(), [&](const entry& a, const entry& b) {
-            if (by_distance && a.d2 != b.d2) return a.d2 < b.d2;
-            return a.index < b.index;
-        });
-        return row;
-    }
-
-    void check_counts() {
-        check_permutation();
-        if (::testing::Test::HasFatalFailure()) return;
+    for (std::size_t k : {std::size_t(1), std::size_t(4), std::size_t(100000)}) {
+        if (!full && k != 4) continue;
         for (auto space : {index_space::original, index_space::sorted}) {
-            const auto counts = g_.count_neighbors(space);
-            ASSERT_EQ(counts.size(), n_) << label_;
-            for (std::size_t q = 0; q < n_; ++q) {
-                const std::size_t i = space == index_space::sorted ? perm_[q] : q;
-                ASSERT_EQ(counts[q], ref_.offsets[i + 1] - ref_.offsets[i]) << label_ << " row " << q;
-            }
+            list_options o;
+            o.space = space;
+            o.distances = space == index_space::original || full;
+            const auto want = t::expected_self_rows<float>(ref, perm, inv, o);
+            fail("nearest(" + std::to_string(k) + ", " + t::describe(o) + ")",
+                 t::compare_csr<float>(g.nearest(k, o), want, o.distances, row_order::distance, k));
         }
     }
 
-    void check_lists(const list_options& o) {
-        const csr<float> got = g_.neighbor_lists(o);
-        const std::string what = label_ + " half=" + std::to_string(o.half) + " self=" + std::to_string(o.self) +
-                                 " sorted=" + std::to_string(o.space == index_space::sorted) +
-                                 " order=" + std::to_string(int(o.order)) + " distances=" + std::to_string(o.distances);
-        ASSERT_EQ(got.rows(), n_) << what;
-        ASSERT_EQ(got.distances.size(), o.distances ? got.indices.size() : 0u) << what;
-        for (std::size_t q = 0; q < n_; ++q) {
-            const auto want = expected_row(q, o, o.order == row_order::distance);
-            std::vector<entry> have;
-            for (std::uint64_t k = got.offsets[q]; k < got.offsets[q + 1]; ++k)
-                have.push_back({0, got.indices[k], o.distances ? got.distances[k] : 0.0f});
-            ASSERT_EQ(have.size(), want.size()) << what << " row " << q;
-            if (o.order == row_order::none)  // traversal order: compare as sets
-                std::sort(have.begin(), have.end(), [](auto& a, auto& b) { return a.index < b.index; });
-            for (std::size_t k = 0; k < want.size(); ++k) {
-                ASSERT_EQ(have[k].index, want[k].index) << what << " row " << q << " entry " << k;
-                if (o.distances) {
-                    ASSERT_EQ(have[k].distance, want[k].distance) << what << " row " << q << " entry " << k;
-                }
-            }
+    // Queries: every fifth data point (each finds itself) and the given points.
+    std::vector<float> all;
+    for (std::size_t i = 0; i < n; i += 5) all.insert(all.end(), coords.begin() + i * D, coords.begin() + (i + 1) * D);
+    all.insert(all.end(), queries.begin(), queries.end());
+    const std::size_t nq = all.size() / D;
+    const t::rows_t<float> qref = t::reference_rows<float, D>(all, coords, radius, false, periodic);
+    fail("query_counts", count_mismatch(g.query_counts(all), nq, "query", [&](std::size_t q) { return qref[q].size(); }));
+    for (auto space : {index_space::original, index_space::sorted}) {
+        const auto want = t::expected_query_rows<float>(qref, inv, space);
+        for (auto order : {row_order::none, row_order::index, row_order::distance}) {
+            if (!full && (order == row_order::none) != (space == index_space::original)) continue;
+            list_options o;
+            o.space = space;
+            o.order = order;
+            o.distances = order != row_order::index;
+            fail("query(" + t::describe(o) + ")", t::compare_csr<float>(g.query(all, o), want, o.distances, order));
+        }
+        for (std::size_t k : {std::size_t(1), std::size_t(5)}) {
+            if (!full && k == 1) continue;
+            list_options o;
+            o.space = space;
+            o.distances = true;
+            fail("query_nearest(" + std::to_string(k) + ", " + t::describe(o) + ")",
+                 t::compare_csr<float>(g.query_nearest(all, k, o), want, true, row_order::distance, k));
         }
     }
+}
 
-    void check_all_lists() {
-        for (bool half : {false, true})
-            for (bool self : {false, true})
-                for (auto space : {index_space::original, index_space::sorted})
-                    for (auto order : {row_order::none, row_order::index, row_order::distance}) {
-                        list_options o;
-                        o.half = half;
-                        o.self = self;
-                        o.space = space;
-                        o.order = order;
-                        o.distances = !(half && self);  // one combination without distances
-                        check_lists(o);
-                    }
+/// Builds a device grid and runs check_device_grid; a throwing build is a failure. Returns the
+/// kind the grid took (automatic when the build failed).
+template <int D>
+grid_kind check_device(context& ctx, const std::vector<float>& coords, float radius, const grid_options& opt,
+                       const std::vector<float>& queries, depth level = depth::full) {
+    grid<D> g(ctx);
+    try {
+        g.build(coords, radius, opt);
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "build threw: " << e.what();
+        return grid_kind::automatic;
     }
-
-    void check_nearest(std::size_t k, const list_options& o) {
-        const csr<float> got = g_.nearest(k, o);
-        const std::string what = label_ + " nearest k=" + std::to_string(k);
-        ASSERT_EQ(got.rows(), n_) << what;
-        for (std::size_t q = 0; q < n_; ++q) {
-            auto want = expected_row(q, o, true);
-            if (want.size() > k) want.resize(k);
-            ASSERT_EQ(got.offsets[q + 1] - got.offsets[q], want.size()) << what << " row " << q;
-            for (std::size_t e = 0; e < want.size(); ++e) {
-                ASSERT_EQ(got.indices[got.offsets[q] + e], want[e].index) << what << " row " << q;
-                if (o.distances) {
-                    ASSERT_EQ(got.distances[got.offsets[q] + e], want[e].distance) << what;
-                }
-            }
-        }
+    // Periodic grids are always uniform; otherwise the kind asked for.
+    if (opt.kind != grid_kind::automatic && opt.periodic.empty()) {
+        EXPECT_EQ(g.kind(), opt.kind);
     }
-
-    // Queries from other points against brute_force_lists(queries, data).
-    void check_queries(const std::vector<float>& queries) {
-        check_permutation();
-        if (::testing::Test::HasFatalFailure()) return;
-        const std::size_t nq = queries.size() / D;
-        const auto ref = brute_force_lists<float, D>(queries, pts_, radius_, false, periodic_);
-        const auto counts = g_.query_counts(queries);
-        ASSERT_EQ(counts.size(), nq) << label_;
-        for (std::size_t q = 0; q < nq; ++q)
-            ASSERT_EQ(counts[q], ref.offsets[q + 1] - ref.offsets[q]) << label_ << " query " << q;
-        for (auto space : {index_space::original, index_space::sorted})
-            for (auto order : {row_order::none, row_order::index, row_order::distance})
-                for (std::size_t k : {std::size_t(0), std::size_t(3)}) {
-                    list_options o;
-                    o.space = space;
-                    o.order = order;
-                    o.distances = true;
-                    o.half = true;  // ignored for queries, as on the CPU
-                    const csr<float> got = k ? g_.query_nearest(queries, k, o) : g_.query(queries, o);
-                    const std::string what = label_ + " queries sorted=" + std::to_string(space == index_space::sorted) +
-                                             " order=" + std::to_string(int(order)) + " k=" + std::to_string(k);
-                    ASSERT_EQ(got.rows(), nq) << what;
-                    for (std::size_t q = 0; q < nq; ++q) {
-                        std::vector<entry> want;
-                        for (auto e = ref.offsets[q]; e < ref.offsets[q + 1]; ++e) {
-                            const std::uint32_t j = ref.indices[e];
-                            const float d2 = brute_distance_squared<float, D>(&queries[q * D], &pts_[std::size_t(j) * D], periodic_);
-                            want.push_back({d2, space == index_space::sorted ? inv_[j] : j, ref.distances[e]});
-                        }
-                        const bool by_distance = k > 0 || order == row_order::distance;
-                        std::sort(want.begin(), want.end(), [&](const entry& a, const entry& b) {
-                            if (by_distance && a.d2 != b.d2) return a.d2 < b.d2;
-                            return a.index < b.index;
-                        });
-                        if (k && want.size() > k) want.resize(k);
-                        std::vector<entry> have;
-                        for (auto e = got.offsets[q]; e < got.offsets[q + 1]; ++e)
-                            have.push_back({0, got.indices[e], got.distances[e]});
-                        if (!k && order == row_order::none)
-                            std::sort(have.begin(), have.end(), [](auto& a, auto& b) { return a.index < b.index; });
-                        ASSERT_EQ(have.size(), want.size()) << what << " query " << q;
-                        for (std::size_t e = 0; e < want.size(); ++e) {
-                            ASSERT_EQ(have[e].index, want[e].index) << what << " query " << q;
-                            ASSERT_EQ(have[e].distance, want[e].distance) << what << " query " << q;
-                        }
-                    }
-                }
-    }
-
-    void check_everything() {
-        check_counts();
-        if (::testing::Test::HasFatalFailure()) return;
-        check_all_lists();
-        list_options o;
-        o.distances = true;
-        check_nearest(1, o);
-        check_nearest(5, o);
-        o.self = true;
-        o.space = index_space::sorted;
-        check_nearest(3, o);
-    }
-
-private:
-    std::vector<float> pts_;
-    float radius_;
-    std::size_t n_;
-    grid<D> g_;
-    std::string label_;
-    csr<float> ref_;
-    std::vector<std::uint32_t> perm_, inv_;
-    std::vector<double> periodic_;
-};
+    check_device_grid<D>(g, coords, radius, opt.periodic, queries, level);
+    return g.kind();
+}
 
 }  // namespace frnn::vulkan::test

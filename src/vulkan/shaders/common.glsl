@@ -4,6 +4,14 @@
 
 #ifndef FRNN_GROUP_SIZE
 #define FRNN_GROUP_SIZE 128
+// Set when a loop ended before its condition did. lavapipe (Mesa's gallivm) silently stops
+// every loop of an invocation group once they ran 65535 iterations in all; the host turns
+// the flag into an error instead of returning a cut result.
+#ifdef FRNN_STATUS_BINDING
+layout(std430, binding = FRNN_STATUS_BINDING) buffer frnn_status_block { uint frnn_status; };
+void frnn_loop_cut() { atomicOr(frnn_status, 1u); }
+#endif
+
 #endif
 
 // Flat index of this invocation: groups are laid out x first, then y (the host splits large

@@ -1,6 +1,7 @@
 #version 450
 // Neighbor count of every row (capped at pc.cap).
 #define FRNN_QUERY_BINDING 6
+#define FRNN_STATUS_BINDING 7
 #include "query_common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -15,5 +16,6 @@ void main() {
     uint c = 0u;
     while (frnn_next(it, j, d2))
         if (frnn_keep(t, j)) ++c;
+    if (!it.done) frnn_loop_cut();
     counts[frnn_row_of(t)] = min(c, pc.cap);
 }

@@ -1,6 +1,7 @@
 #version 450
 // Fills the CSR rows: neighbors in traversal order (fixed, since the sort is stable).
 #define FRNN_QUERY_BINDING 8
+#define FRNN_STATUS_BINDING 9
 #include "query_common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -24,4 +25,5 @@ void main() {
         if (write_d2) dist2[out_pos] = d2;
         ++out_pos;
     }
+    if (!it.done) frnn_loop_cut();
 }

@@ -3,6 +3,7 @@
 // candidates sorted by (squared distance, index): a total order, so the result does not
 // depend on traversal order.
 #define FRNN_QUERY_BINDING 8
+#define FRNN_STATUS_BINDING 9
 #include "query_common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -35,7 +36,9 @@ void main() {
             indices[b + p] = indices[b + p - 1u];
             --p;
         }
+        if (p > 0u && before(d2, idx, dist2[b + p - 1u], indices[b + p - 1u])) frnn_loop_cut();
         dist2[b + p] = d2;
         indices[b + p] = idx;
     }
+    if (!it.done) frnn_loop_cut();
 }

@@ -3,6 +3,7 @@
 // One thread per row; Shell sort (gaps 1, 4, 13, 40, ...): in place, as fast as insertion sort
 // on the short rows of typical data, and ~m^1.3 instead of m^2 on the long rows of dense
 // clusters.
+#define FRNN_STATUS_BINDING 3
 #include "common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -31,7 +32,8 @@ void main() {
     uint gap = 1u;
     while (gap < len / 3u) gap = 3u * gap + 1u;
     for (; gap > 0u; gap /= 3u) {
-        for (uint k = b + gap; k < e; ++k) {
+        uint k = b + gap;
+        for (; k < e; ++k) {
             const uint idx = indices[k];
             const float d = carry ? dist2[k] : 0.0;
             uint p = k;
@@ -40,8 +42,11 @@ void main() {
                 if (carry) dist2[p] = dist2[p - gap];
                 p -= gap;
             }
+            if (p >= b + gap && before(d, idx, carry ? dist2[p - gap] : 0.0, indices[p - gap])) frnn_loop_cut();
             indices[p] = idx;
             if (carry) dist2[p] = d;
         }
+        if (k < e) frnn_loop_cut();
     }
+    if (gap > 0u) frnn_loop_cut();
 }

@@ -3,6 +3,7 @@
 // points of that slot with a smaller original index. O(points in the slot) per point, the same
 // order of work as one query, and the sorted order no longer depends on scheduling.
 // Also copies positions and cell coordinates into cell order.
+#define FRNN_STATUS_BINDING 9
 #include "common.glsl"
 layout(local_size_x = FRNN_GROUP_SIZE) in;
 
@@ -24,7 +25,9 @@ void main() {
     const uint slot = point_slot[i];
     const uint b = start[slot], e = start[slot + 1u];
     uint dst = b;
-    for (uint t = b; t < e; ++t) dst += tmp[t] < i ? 1u : 0u;
+    uint t = b;
+    for (; t < e; ++t) dst += tmp[t] < i ? 1u : 0u;
+    if (t < e) frnn_loop_cut();
     perm[dst] = i;
     inverse_perm[i] = dst;
     for (int a = 0; a < FRNN_DIM; ++a) {
