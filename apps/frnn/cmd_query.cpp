@@ -191,12 +191,13 @@ void finish_lists(const query_args& a, const csr<T>& lists, query_report& r, sto
     r.mean_neighbors = lists.rows() ? double(lists.size()) / double(lists.rows()) : 0.0;
 }
 
-// The same query on the Vulkan device (float precision: double input is converted).
-void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& queries,
-                     const std::vector<double>& periodic, query_report& r, stopwatch& clock) {
+// The same query on the Vulkan device: float input in float; double input in double (the
+// device finds float candidates, the host decides them in double; see docs/VULKAN.md).
 #ifdef FRNN_VULKAN_AVAILABLE
-    data.convert_to(io::precision::f32);
-    if (!a.queries.empty()) queries.convert_to(io::precision::f32);
+template <class T>
+void query_on_vulkan_as(const query_args& a, io::point_set& data, io::point_set& queries,
+                        const std::vector<double>& periodic, query_report& r, stopwatch& clock) {
+    if (!a.queries.empty()) queries.convert_to(data.type());
     grid_options options;
     options.kind = parse_grid_kind(a.grid);
     options.cell_size = a.cell_size;
@@ -206,23 +207,31 @@ void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& qu
     lists_options.self = a.self;
     lists_options.order = row_order::index;
     vulkan::context ctx;
-    const auto& xyz = std::get<std::vector<float>>(data.coords);
-    const std::vector<float> none;
-    const auto& q = a.queries.empty() ? none : std::get<std::vector<float>>(queries.coords);
-    vulkan::search_result found =
-        vulkan::search(ctx, xyz, data.dimension, float(a.radius), options, lists_options, q, a.knn);
+    const auto& xyz = std::get<std::vector<T>>(data.coords);
+    const std::vector<T> none;
+    const auto& q = a.queries.empty() ? none : std::get<std::vector<T>>(queries.coords);
+    auto found = vulkan::search(ctx, std::span<const T>(xyz), data.dimension, T(a.radius), options, lists_options,
+                                std::span<const T>(q), a.knn);
     if (a.knn) sort_rows_by_index(found.lists);
     clock.lap_ms();
     r.build_ms = found.build_ms;
     r.query_ms = found.query_ms;
     r.points = data.size();
     r.dimension = data.dimension;
-    r.precision = "float (vulkan)";
+    r.precision = std::is_same_v<T, float> ? "float (vulkan)" : "double (vulkan: float candidates, decided in double)";
     r.grid = std::string(to_string(found.kind)) + " (vulkan)";
     r.cells = found.cells;
     r.cell_size = a.cell_size > 0 ? a.cell_size : a.radius;
     r.threads = 0;
     finish_lists(a, found.lists, r, clock);
+}
+#endif
+
+void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& queries,
+                     const std::vector<double>& periodic, query_report& r, stopwatch& clock) {
+#ifdef FRNN_VULKAN_AVAILABLE
+    if (data.type() == io::precision::f32) query_on_vulkan_as<float>(a, data, queries, periodic, r, clock);
+    else query_on_vulkan_as<double>(a, data, queries, periodic, r, clock);
 #else
     (void)a, (void)data, (void)queries, (void)periodic, (void)r, (void)clock;
     throw error("this frnn was built without the Vulkan backend (it needs libvulkan-dev and glslc at build time)");
@@ -324,7 +333,7 @@ const register_command query_command{"query", [](CLI::App& app) {
     cmd->add_flag("--self", args->self, "Include each point as its own neighbor (pair (i,i), distance 0)");
     cmd->add_option("--threads", args->threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", args->json, "Print the summary as one JSON object");
-    cmd->add_option("--backend", args->backend, "Where the search runs: cpu, or vulkan (float precision)")
+    cmd->add_option("--backend", args->backend, "Where the search runs: cpu, or vulkan (float on the device; double input decided in double)")
         ->check(CLI::IsMember({"cpu", "vulkan"}));
     cmd->callback([args] { run_query(*args); });
 }};

@@ -252,7 +252,27 @@ TEST(cli_query, vulkan_backend_writes_the_cpu_files) {
     ASSERT_EQ(run_tool(dir, "query p.npy -r 1 --backend vulkan -o gpu.csv").code, 0);
     EXPECT_EQ(read_bytes(dir / "gpu.npy"), read_bytes(dir / "cpu.npy"));
     EXPECT_EQ(read_bytes(dir / "gpu.csv"), read_bytes(dir / "cpu.csv"));
+
+    // Double input is decided in double on the device too: the same files as the CPU's.
+    const auto xyz64 = random_points<double, 3>(500, 6.0, 12);
+    write_points<double, 3>(dir / "d.npy", xyz64);
+    ASSERT_EQ(run_tool(dir, "query d.npy -r 1 -o cpu64.csv").code, 0);
+    const tool_result gpu64 = run_tool(dir, "query d.npy -r 1 --backend vulkan -o gpu64.csv");
+    ASSERT_EQ(gpu64.code, 0) << gpu64.err;
+    EXPECT_NE(gpu64.out.find("double"), std::string::npos) << gpu64.out;
+    EXPECT_EQ(read_bytes(dir / "gpu64.csv"), read_bytes(dir / "cpu64.csv"));
 #endif
+}
+
+// A radius beyond every distance (its square overflows double): every pair, no crash.
+TEST(cli_query, radius_beyond_every_distance) {
+    const auto dir = fresh_dir();
+    write_points<double, 3>(dir / "three.xyz", {0, 0, 0, 1, 2, 3, -4, 5, 6});
+    for (const char* r : {"1e200", "1e308"}) {
+        const tool_result t = run_tool(dir, std::string("query three.xyz --radius ") + r + " -o out.npy");
+        ASSERT_EQ(t.code, 0) << t.err;
+        EXPECT_EQ(read_pairs(dir / "out.npy", 3), (std::vector<std::int64_t>{0, 1, 0, 2, 1, 2})) << r;
+    }
 }
 
 }  // namespace
