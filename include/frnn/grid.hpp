@@ -133,7 +133,7 @@ public:
     std::size_t size() const { return perm_.size(); }
     T radius() const { return radius_; }
     grid_kind kind() const { return layout_.kind; }          ///< uniform or hashed, never automatic
-    double cell_size(int axis = 0) const { return layout_.cell[axis]; }
+    double cell_size(int axis = 0) const { return layout_.cell[axis] / double(layout_.scale); }
     int reach() const { return layout_.reach; }              ///< cells visited on each side
     std::size_t cell_count() const { return layout_.slots; } ///< cells (uniform) or table slots (hashed)
     std::size_t nonempty_cells() const { return nonempty_; }

@@ -146,6 +146,7 @@ template <class T, int D>
 std::size_t grid<T, D>::memory_bytes() const {
     std::size_t bytes = 0;
     for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
+    for (const auto& p : input_pos_) bytes += p.capacity() * sizeof(T);
     bytes += (perm_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t) + inverse_.capacity_bytes();
     bytes += mixed_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slots);
     return bytes;

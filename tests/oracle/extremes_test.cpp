@@ -70,6 +70,11 @@ void scaled_uniform_case(double r, std::uint64_t seed) {
     const auto pts = symmetric_points<T, D>(80, spread, seed);
     const auto queries = symmetric_points<T, D>(12, spread, seed + 1);
     every_grid<T, D>(pts, T(r), queries, "r=" + std::to_string(r) + " spread=" + std::to_string(spread));
+    // The geometry it reports is in the caller's units, whatever the search scale.
+    const grid<T, D> g(pts, T(r));
+    EXPECT_GE(g.cell_size(), double(T(r)) * (1 - 1e-6)) << r;
+    EXPECT_LE(g.cell_size(), double(T(r)) * (1 + 1e-5)) << r;
+    EXPECT_EQ(g.radius(), T(r));
 }
 
 TEST(OracleExtremes, HugeRadiusFloat) {
