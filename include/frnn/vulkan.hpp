@@ -18,6 +18,8 @@
 // synchronization of queues).
 // Errors: frnn::error, with the reason (no Vulkan driver, no compute device, a buffer larger
 // than the device's maxStorageBufferRange, non-finite coordinates, a failing Vulkan call).
+// Extreme radii (r^2 beyond float's range) are searched with the search scale of
+// frnn/search_scale.hpp, exactly as the CPU grid and the brute-force oracle do.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -150,13 +152,21 @@ public:
     grid(grid&&) noexcept;
     grid& operator=(grid&&) noexcept;
 
-    /// Builds over N*D interleaved coordinates from the host.
+    /// Builds over N*D interleaved coordinates from the host, any finite radius: where r^2
+    /// leaves float's range the coordinates are multiplied by the search scale on the host.
+    /// A build that throws leaves the grid as it was (every check runs first); after
+    /// std::bad_alloc, or a failure once the device has begun rebuilding, the grid is empty.
     void build(std::span<const float> coords, float radius, const grid_options& options = {});
-    /// Builds over the caller's buffer: n*D interleaved floats, read in place (no copy).
+    /// Builds over the caller's buffer: n*D interleaved floats, read in place (no copy). Radii
+    /// that need a search scale (outside [2^-49, 2^63)) are refused with frnn::error.
     void build(buffer_view coords, std::size_t n, float radius, const grid_options& options = {});
 
     std::size_t size() const;
-    float radius() const;
+    float radius() const;             ///< the caller's radius
+    /// The power of two s of frnn/search_scale.hpp (1 except for extreme radii): the device
+    /// holds positions, radius and box times s, so shader_buffers() and the squared distances
+    /// of neighbor_lists_on_device() are in those units. Host results are in the caller's.
+    float search_scale() const;
     grid_kind kind() const;           ///< uniform or hashed, never automatic
     std::size_t cell_count() const;   ///< cells (uniform) or table slots (hashed)
 
@@ -178,7 +188,7 @@ public:
                              const list_options& options = {}) const;
 
     /// Neighbor lists left on the device: uint32 offsets (rows + 1), uint32 indices and, when
-    /// options.distances, float squared distances. Owned by the grid, valid until its next
+    /// options.distances, float squared distances (in search units: times search_scale()^2). Owned by the grid, valid until its next
     /// query or build. All pairs must fit one storage buffer (frnn::error otherwise).
     struct device_csr {
         buffer_view offsets, indices, distances_squared;

@@ -152,8 +152,4 @@ private:
     std::map<std::array<int, 3>, std::unique_ptr<program>> programs_;
 };
 
-/// For the double-input search only: the grid's next builds accept a float radius whose square
-/// overflows (every pair is then a candidate, which the host decides in double).
-void build_candidates_only(grid_state& g);
-
 }  // namespace frnn::vulkan::detail

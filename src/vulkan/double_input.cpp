@@ -86,7 +86,6 @@ basic_search_result<double> search_double(context& ctx, std::span<const double> 
     const std::vector<float> xf = to_float<D>(coords, "data", largest);
     const std::vector<float> qf = to_float<D>(queries, "query", largest);
     grid<D> g(ctx);
-    detail::build_candidates_only(g.state());
     g.build(xf, candidate_radius<D>(r, largest, go), go);
     const auto t1 = clock::now();
 

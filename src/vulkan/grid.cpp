@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <limits>
+#include <new>
 #include <string>
 
 #include "device.hpp"
+#include "frnn/search_scale.hpp"
 #include "frnn/vulkan.hpp"
 
 namespace frnn::vulkan {
@@ -32,17 +36,31 @@ static_assert(sizeof(grid_params) == 96);
 
 std::size_t groups_for(std::size_t n, std::size_t per_group) { return (n + per_group - 1) / per_group; }
 
+// Nine significant digits: every float reads back exactly (std::to_string prints 1e-30 as 0).
+std::string shortest(double v) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.9g", v);
+    return s;
+}
+
+// What a build sets, computed (and checked) before any member changes.
+struct grid_layout {
+    grid_params params{};
+    grid_kind kind = grid_kind::uniform;
+    std::size_t slots = 1;
+};
+
 struct grid_state {
     context* ctx = nullptr;
     device* dev = nullptr;
     int dim = 3;
     std::size_t n = 0;
-    float radius = 0;
+    float radius = 0;  // the caller's
+    float scale = 1;   // the search scale s (frnn/search_scale.hpp): the device works on x*s, r*s
     grid_kind kind = grid_kind::uniform;
     std::size_t slots = 1;
     grid_params params{};
     bool built = false;
-    bool candidates_only = false;  // set by the double-input search, which re-decides every pair
 
     buffer params_buf, own_pos, sorted_pos, sorted_cell, start, perm, inverse;
     buffer point_slot, point_rank, point_cell, tmp, scan_scratch, box;
@@ -100,9 +118,18 @@ struct grid_state {
         if (!built) throw error(std::string("vulkan::grid::") + what + ": the grid is not built");
     }
 
-    void configure(const grid_options& o, const float* lo, const float* hi);
-    void configure_periodic(const grid_options& o, double cell, const double* lo, const double* hi);
-    void build(buffer_view coords, std::size_t count, float r, const grid_options& o);
+    grid_layout configure(const grid_options& o, std::size_t count, float r, float s, const float* lo,
+                          const float* hi) const;
+    void configure_periodic(grid_layout& l, const grid_options& o, std::size_t count, float r, float s, double cell,
+                            const double* lo, const double* hi) const;
+    void check_arguments(std::size_t count, float r, const grid_options& o) const;
+    float scale_for(float r, const float* lo, const float* hi, const grid_options& o) const;
+    // A build checks everything first (the grid stays as it was when a check fails), then
+    // commits; a failure during the commit leaves the grid empty.
+    void build_from_host(std::span<const float> coords, float r, const grid_options& o);
+    void build_from_device(buffer_view coords, std::size_t count, float r, const grid_options& o);
+    void commit(const float* host, buffer_view coords, std::size_t count, float r, float s, const grid_layout& l);
+    void clear();
     std::uint32_t flags(const list_options& o) const {
         std::uint32_t f = 0;
         if (o.half) f |= flag_half;
@@ -162,127 +189,186 @@ struct grid_state {
 // `automatic`: uniform over the bounding box (or the domain) when it needs at most
 // max(4N, 4096) cells, hashed otherwise. Unlike the CPU grid, no factor for cells smaller than
 // r and no uniform grid over the bulk with far outliers folded into its border cells.
-void grid_state::configure(const grid_options& o, const float* lo_in, const float* hi_in) {
+// lo/hi: the bounding box in search units (already multiplied by s). Changes nothing.
+grid_layout grid_state::configure(const grid_options& o, std::size_t count, float r, float s, const float* lo_in,
+                                  const float* hi_in) const {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
     if (o.domain_min.empty() != o.domain_max.empty())
-        throw error("vulkan: domain needs both domain_min and domain_max");
+        throw error("vulkan::grid::build: domain needs both domain_min and domain_max");
     if (!o.domain_min.empty()) {
         if (o.domain_min.size() != std::size_t(dim) || o.domain_max.size() != std::size_t(dim))
-            throw error("vulkan: domain bounds need " + std::to_string(dim) + " values each");
+            throw error("vulkan::grid::build: domain bounds need " + std::to_string(dim) + " values each");
+        // Bounds beyond float's range hold no more points than the range itself (as on the CPU).
+        const double limit = double(std::numeric_limits<float>::max());
         for (int a = 0; a < dim; ++a) {
             if (!std::isfinite(o.domain_min[a]) || !std::isfinite(o.domain_max[a]) ||
                 o.domain_min[a] > o.domain_max[a])
-                throw error("vulkan: domain bounds on axis " + std::to_string(a) +
+                throw error("vulkan::grid::build: domain bounds on axis " + std::to_string(a) +
                             " are not finite and ordered");
-            lo[a] = o.domain_min[a], hi[a] = o.domain_max[a];
+            lo[a] = std::clamp(o.domain_min[a], -limit, limit) * double(s);
+            hi[a] = std::clamp(o.domain_max[a], -limit, limit) * double(s);
         }
     }
-    const double cell = o.cell_size > 0 ? o.cell_size : double(radius);
-    params = {};
-    for (int a = 0; a < 4; ++a) params.dims[a] = 1, params.inv_cell[a] = 1;
-    params.radius = radius;
-    params.radius2 = radius * radius;  // the CPU grid's r2, in float
-    params.count = std::uint32_t(n);
-    if (!o.periodic.empty()) {
-        configure_periodic(o, cell, lo, hi);
-        return;
-    }
-    double cells = 1;
-    for (int a = 0; a < dim; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
-    kind = o.kind;
-    if (kind == grid_kind::automatic)
-        kind = cells <= std::max(4.0 * double(n), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
+    const float search_r = r * s;
+    const double cell = o.cell_size > 0 ? o.cell_size * double(s) : double(search_r);
+    grid_layout l;
+    grid_params& p = l.params;
+    for (int a = 0; a < 4; ++a) p.dims[a] = 1, p.inv_cell[a] = 1;
+    p.radius = search_r;
+    p.radius2 = search_r * search_r;  // the CPU grid's r2, in float and search units
+    p.count = std::uint32_t(count);
     const double max_cells = double(dev->info().max_storage_buffer_range) / 4 - 1;
-    if (kind == grid_kind::uniform && !(cells <= max_cells))
-        throw error("vulkan: a uniform grid over this domain would need " + std::to_string(cells) +
-                    " cells, more than one storage buffer of this device holds (" +
-                    std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
-    for (int a = 0; a < dim; ++a) {
-        params.inv_cell[a] = float(1.0 / cell);
-        // Both kinds count cells from the lower corner: small cell coordinates keep the float
-        // rounding (and the search margin that covers it) small.
-        params.origin[a] = float(lo[a]);
-        if (kind == grid_kind::uniform)
-            params.dims[a] = std::int32_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
-    }
-    if (kind == grid_kind::uniform) {
-        slots = 1;
-        for (int a = 0; a < dim; ++a) slots *= std::size_t(params.dims[a]);
+    if (!o.periodic.empty()) {
+        configure_periodic(l, o, count, r, s, cell, lo, hi);
     } else {
-        slots = std::bit_ceil(std::max<std::size_t>(n, 64));
+        double cells = 1;
+        for (int a = 0; a < dim; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
+        l.kind = o.kind;
+        if (l.kind == grid_kind::automatic)
+            l.kind = cells <= std::max(4.0 * double(count), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
+        if (l.kind == grid_kind::uniform && !(cells <= max_cells))
+            throw error("vulkan::grid::build: a uniform grid over this domain would need " + std::to_string(cells) +
+                        " cells, more than one storage buffer of this device holds (" +
+                        std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
+        for (int a = 0; a < dim; ++a) {
+            p.inv_cell[a] = float(1.0 / cell);
+            // Both kinds count cells from the lower corner: small cell coordinates keep the float
+            // rounding (and the search margin that covers it) small.
+            p.origin[a] = float(lo[a]);
+            if (l.kind == grid_kind::uniform) p.dims[a] = std::int32_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
+        }
+        if (l.kind == grid_kind::uniform) {
+            l.slots = 1;
+            for (int a = 0; a < dim; ++a) l.slots *= std::size_t(p.dims[a]);
+        } else {
+            l.slots = std::bit_ceil(std::max<std::size_t>(count, 64));
+        }
+        p.hashed = l.kind == grid_kind::hashed;
+        p.mask = l.kind == grid_kind::hashed ? std::uint32_t(l.slots - 1) : 0;
+        p.slots = std::uint32_t(l.slots);
     }
-    params.hashed = kind == grid_kind::hashed;
-    params.mask = kind == grid_kind::hashed ? std::uint32_t(slots - 1) : 0;
-    params.slots = std::uint32_t(slots);
+    // Checked here, not when allocating: a build that cannot fit leaves the grid as it was.
+    if (!(double(l.slots) <= max_cells))
+        throw error("vulkan::grid::build: " + std::to_string(l.slots) + " slots need more than one storage buffer "
+                    "of this device holds (maxStorageBufferRange " +
+                    std::to_string(dev->info().max_storage_buffer_range) + " bytes)");
+    return l;
 }
 
 // Periodic box [0, L) per axis: a uniform grid of at least r-sized cells, L / dims each, as on
-// the CPU (very sparse boxes get fewer, larger cells).
-void grid_state::configure_periodic(const grid_options& o, double cell, const double* lo, const double* hi) {
+// the CPU (very sparse boxes get fewer, larger cells). Lengths are checked in the caller's units.
+void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::size_t count, float r, float s,
+                                    double cell, const double* lo, const double* hi) const {
     if (o.periodic.size() != std::size_t(dim))
-        throw error("vulkan: periodic box needs " + std::to_string(dim) + " lengths, got " +
+        throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) + " lengths, got " +
                     std::to_string(o.periodic.size()));
+    grid_params& p = l.params;
     double cells = 1;
     for (int a = 0; a < dim; ++a) {
         const double length = o.periodic[a];
-        if (!std::isfinite(length) || length < 2 * double(radius))
-            throw error("vulkan: periodic box length " + std::to_string(length) + " on axis " + std::to_string(a) +
-                        " is smaller than twice the radius (" + std::to_string(2 * double(radius)) + ")");
-        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= length * 0x1p30)
-            throw error("vulkan: a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
-        params.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(length / cell), 0x1p30)));
-        cells *= params.dims[a];
+        if (!std::isfinite(length) || length < 2 * double(r) || length > double(std::numeric_limits<float>::max()))
+            throw error("vulkan::grid::build: periodic box length " + std::to_string(length) + " on axis " +
+                        std::to_string(a) + " is smaller than twice the radius (" + std::to_string(2 * double(r)) +
+                        ") or not a finite float");
+        // The oracle's box: the length rounded to float, then scaled (exact: a power of two).
+        p.box[a] = float(length) * s;
+        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(p.box[a]) * 0x1p30)
+            throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
+                        std::to_string(a));
+        p.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(length * double(s) / cell), 0x1p30)));
+        cells *= p.dims[a];
     }
-    const double cap = std::max(8.0 * double(n), 4096.0);
+    const double cap = std::max(8.0 * double(count), 4096.0);
     if (cells > cap) {
         const double shrink = std::pow(cells / cap, 1.0 / dim);
-        for (int a = 0; a < dim; ++a)
-            params.dims[a] = std::max<std::int32_t>(1, std::int32_t(double(params.dims[a]) / shrink));
+        for (int a = 0; a < dim; ++a) p.dims[a] = std::max<std::int32_t>(1, std::int32_t(double(p.dims[a]) / shrink));
     }
-    kind = grid_kind::uniform;
-    slots = 1;
+    l.kind = grid_kind::uniform;
+    l.slots = 1;
     for (int a = 0; a < dim; ++a) {
-        params.box[a] = float(o.periodic[a]);
-        params.inv_cell[a] = float(double(params.dims[a]) / double(params.box[a]));
-        slots *= std::size_t(params.dims[a]);
+        p.inv_cell[a] = float(double(p.dims[a]) / double(p.box[a]));
+        l.slots *= std::size_t(p.dims[a]);
     }
-    params.periodic = 1;
-    params.hashed = 0;
-    params.slots = std::uint32_t(slots);
+    p.periodic = 1;
+    p.hashed = 0;
+    p.slots = std::uint32_t(l.slots);
 }
 
-void grid_state::build(buffer_view coords, std::size_t count, float r, const grid_options& o) {
-    built = false;
+// The checks that need neither the points nor the device.
+void grid_state::check_arguments(std::size_t count, float r, const grid_options& o) const {
     if (!(r > 0) || !std::isfinite(r))
-        throw error("vulkan::grid::build: radius must be positive and finite, got " + std::to_string(r));
-    // Above sqrt(FLT_MAX) the test d2 <= r*r would compare with +inf and accept pairs whose d2
-    // overflows too, however far apart: refused, never answered wrong. (Double input widens
-    // its candidate radius and decides on the host, where a superset of candidates is right.)
-    if (!std::isfinite(r * r) && !candidates_only)
-        throw error("vulkan::grid::build: radius " + std::to_string(r) + " squared overflows float, the device's "
-                    "precision (largest radius 1.8446743e19); use the CPU grid");
+        throw error("vulkan::grid::build: radius must be positive and finite, got " + shortest(r));
     if (o.cell_size != 0 && !(o.cell_size >= double(r) / 4 && o.cell_size <= double(r)))
         throw error("vulkan::grid::build: cell_size must lie in [r/4, r], got " + std::to_string(o.cell_size));
     if (count >= 0x7FFFFFFFu) throw error("vulkan::grid::build: too many points (" + std::to_string(count) + ")");
+    const std::size_t bytes = count * dim * sizeof(float);
+    if (bytes > dev->info().max_storage_buffer_range)
+        throw error("vulkan::grid::build: " + std::to_string(count) + " points need " + std::to_string(bytes) +
+                    " bytes, more than one storage buffer of this device holds (maxStorageBufferRange " +
+                    std::to_string(dev->info().max_storage_buffer_range) + " bytes)");
+}
+
+// The search scale of frnn/search_scale.hpp, from the bounding box (caller's units) and the box.
+float grid_state::scale_for(float r, const float* lo, const float* hi, const grid_options& o) const {
+    float largest = largest_magnitude<float>({}, o.periodic);
+    for (int a = 0; a < dim; ++a) largest = std::max({largest, std::abs(lo[a]), std::abs(hi[a])});
+    try {
+        return frnn::search_scale<float>(r, largest);
+    } catch (const error& e) {
+        throw error(std::string("vulkan::grid::build: ") + e.what());
+    }
+}
+
+// Host coordinates: checked, measured and scaled on the host, so that nothing of the grid
+// changes before all checks passed.
+void grid_state::build_from_host(std::span<const float> coords, float r, const grid_options& o) {
+    if (coords.size() % dim != 0)
+        throw error("vulkan::grid::build: " + std::to_string(coords.size()) + " coordinates is not a multiple of " +
+                    std::to_string(dim));
+    const std::size_t count = coords.size() / dim;
+    check_arguments(count, r, o);
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    if (count > 0)
+        for (int a = 0; a < dim; ++a) lo[a] = hi[a] = coords[a];
+    for (std::size_t i = 0; i < coords.size(); ++i) {
+        const float v = coords[i];
+        if (!std::isfinite(v))
+            throw error("vulkan::grid::build: point " + std::to_string(i / dim) + " has a non-finite coordinate");
+        const int a = int(i % dim);
+        lo[a] = std::min(lo[a], v), hi[a] = std::max(hi[a], v);
+    }
+    const float s = scale_for(r, lo, hi, o);
+    // Scaling is monotone, so the scaled box is the box of the scaled points.
+    for (int a = 0; a < dim; ++a) lo[a] *= s, hi[a] *= s;
+    const grid_layout l = configure(o, count, r, s, lo, hi);
+    std::vector<float> scaled;
+    if (s != 1) {
+        // The oracle's multiplication, in float: below a quarter of FLT_MAX (search_scale), exact.
+        scaled.resize(coords.size());
+        for (std::size_t i = 0; i < coords.size(); ++i) scaled[i] = coords[i] * s;
+        coords = scaled;
+    }
+    commit(coords.data(), {}, count, r, s, l);
+}
+
+// The caller's buffer: checked and measured on the device (scratch buffers only).
+void grid_state::build_from_device(buffer_view coords, std::size_t count, float r, const grid_options& o) {
+    check_arguments(count, r, o);
     const std::size_t pos_bytes = count * dim * sizeof(float);
     if (count > 0 && (!coords.buffer || coords.size < pos_bytes))
         throw error("vulkan::grid::build: the coordinate buffer holds " + std::to_string(coords.size) +
                     " bytes, " + std::to_string(count) + " points need " + std::to_string(pos_bytes));
-    n = count;
-    radius = r;
-    pos = {coords.buffer, coords.offset, std::max<std::size_t>(pos_bytes, 4)};
-
-    // 1. Bounding box and finiteness on the device (the host needs them to size the grid).
+    const buffer_view in{coords.buffer, coords.offset, std::max<std::size_t>(pos_bytes, 4)};
     float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     ensure(box, 64, "bounding box");
-    if (n > 0) {
+    if (count > 0) {
         const std::size_t words = 2 * dim + 1;
         dev->begin();
         dev->fill(box.view(0, words * 4), 0xFFFFFFFFu);
         dev->fill(box.view(dim * 4, dim * 4), 0u);
-        const std::uint32_t c = std::uint32_t(n);
-        dev->dispatch(dev->get(shader::bbox, dim), {pos, box.view(0, words * 4)}, &c, 4, groups_for(n, group_size));
+        const std::uint32_t c = std::uint32_t(count);
+        dev->dispatch(dev->get(shader::bbox, dim), {in, box.view(0, words * 4)}, &c, 4, groups_for(count, group_size));
         dev->submit();
         std::uint32_t keys[7];
         dev->download(box.view(0, words * 4), keys, words * 4);
@@ -297,47 +383,86 @@ void grid_state::build(buffer_view coords, std::size_t count, float r, const gri
         };
         for (int a = 0; a < dim; ++a) lo[a] = from_key(keys[a]), hi[a] = from_key(keys[dim + a]);
     }
-    configure(o, lo, hi);
+    // The caller's buffer is read in place, so it cannot be scaled: radii whose square float
+    // cannot hold exactly are refused, not answered in the wrong units.
+    if (scale_for(r, lo, hi, o) != 1)
+        throw error("vulkan::grid::build: radius " + shortest(r) + " needs a search scale (r^2 leaves "
+                    "float's normal range outside [2^-49, 2^63) = [1.78e-15, 9.22e18]), which a build from a "
+                    "buffer_view cannot apply in place; build from host coordinates (scaled on the host)");
+    commit(nullptr, in, count, r, 1, configure(o, count, r, 1, lo, hi));
+}
 
-    // 2. Insert, scan, scatter, stable pass: one submission.
-    const std::size_t nb = std::max<std::size_t>(n, 1);
-    ensure(params_buf, sizeof(grid_params), "grid parameters");
-    ensure(start, (slots + 1) * 4, "cell starts");
-    ensure(point_slot, nb * 4, "point slots");
-    ensure(point_rank, nb * 4, "point ranks");
-    ensure(point_cell, nb * dim * 4, "point cells");
-    ensure(tmp, nb * 4, "scatter buffer");
-    ensure(perm, nb * 4, "sorted-to-original map");
-    ensure(inverse, nb * 4, "original-to-sorted map");
-    ensure(sorted_pos, nb * dim * 4, "sorted positions");
-    ensure(sorted_cell, nb * dim * 4, "sorted cells");
-    ensure(scan_scratch, scan_scratch_bytes(slots + 1), "scan scratch");
+// Everything checked: from here the grid changes, and any failure leaves it empty.
+void grid_state::commit(const float* host, buffer_view coords, std::size_t count, float r, float s,
+                        const grid_layout& l) {
+    try {
+        built = false;
+        n = count;
+        radius = r;
+        scale = s;
+        params = l.params;
+        kind = l.kind;
+        slots = l.slots;
+        const std::size_t nb = std::max<std::size_t>(n, 1);
+        if (host) {
+            ensure(own_pos, nb * dim * 4, "input positions");
+            dev->upload(own_pos.view(), host, n * dim * sizeof(float));
+            coords = own_pos.view(0, nb * dim * 4);
+        }
+        pos = coords;
+        ensure(params_buf, sizeof(grid_params), "grid parameters");
+        ensure(start, (slots + 1) * 4, "cell starts");
+        ensure(point_slot, nb * 4, "point slots");
+        ensure(point_rank, nb * 4, "point ranks");
+        ensure(point_cell, nb * dim * 4, "point cells");
+        ensure(tmp, nb * 4, "scatter buffer");
+        ensure(perm, nb * 4, "sorted-to-original map");
+        ensure(inverse, nb * 4, "original-to-sorted map");
+        ensure(sorted_pos, nb * dim * 4, "sorted positions");
+        ensure(sorted_cell, nb * dim * 4, "sorted cells");
+        ensure(scan_scratch, scan_scratch_bytes(slots + 1), "scan scratch");
 
-    const std::uint32_t c = std::uint32_t(n);
-    const auto n4 = [&](std::size_t per) { return std::max<std::size_t>(n * per * 4, 4); };
-    dev->begin();
-    clear_status();
-    dev->update(params_buf.view(0, sizeof(grid_params)), &params, sizeof(grid_params));
-    dev->fill(start.view(0, (slots + 1) * 4), 0u);
-    if (n > 0) {
-        dev->dispatch(dev->get(shader::insert, dim, kind_code()),
-                      {params_buf.view(0, sizeof(grid_params)), pos, start.view(0, (slots + 1) * 4),
-                       point_slot.view(0, n4(1)), point_rank.view(0, n4(1)), point_cell.view(0, n4(dim))},
-                      nullptr, 0, groups_for(n, group_size));
-        record_scan(start.view(0, (slots + 1) * 4), slots + 1, 0);
-        dev->dispatch(dev->get(shader::scatter, dim),
-                      {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), point_rank.view(0, n4(1)),
-                       tmp.view(0, n4(1))},
-                      &c, 4, groups_for(n, group_size));
-        dev->dispatch(dev->get(shader::stable, dim),
-                      {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
-                       point_cell.view(0, n4(dim)), perm.view(0, n4(1)), inverse.view(0, n4(1)),
-                       sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim)), status_word()},
-                      &c, 4, groups_for(n, group_size));
+        // Insert, scan, scatter, stable pass: one submission.
+        const std::uint32_t c = std::uint32_t(n);
+        const auto n4 = [&](std::size_t per) { return std::max<std::size_t>(n * per * 4, 4); };
+        dev->begin();
+        clear_status();
+        dev->update(params_buf.view(0, sizeof(grid_params)), &params, sizeof(grid_params));
+        dev->fill(start.view(0, (slots + 1) * 4), 0u);
+        if (n > 0) {
+            dev->dispatch(dev->get(shader::insert, dim, kind_code()),
+                          {params_buf.view(0, sizeof(grid_params)), pos, start.view(0, (slots + 1) * 4),
+                           point_slot.view(0, n4(1)), point_rank.view(0, n4(1)), point_cell.view(0, n4(dim))},
+                          nullptr, 0, groups_for(n, group_size));
+            record_scan(start.view(0, (slots + 1) * 4), slots + 1, 0);
+            dev->dispatch(dev->get(shader::scatter, dim),
+                          {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), point_rank.view(0, n4(1)),
+                           tmp.view(0, n4(1))},
+                          &c, 4, groups_for(n, group_size));
+            dev->dispatch(dev->get(shader::stable, dim),
+                          {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
+                           point_cell.view(0, n4(dim)), perm.view(0, n4(1)), inverse.view(0, n4(1)),
+                           sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim)), status_word()},
+                          &c, 4, groups_for(n, group_size));
+        }
+        dev->submit();
+        check_status("build");
+        built = true;
+    } catch (...) {
+        clear();
+        throw;
     }
-    dev->submit();
-    check_status("build");
-    built = true;
+}
+
+void grid_state::clear() {
+    built = false;
+    n = 0;
+    radius = 0;
+    scale = 1;
+    params = {};
+    kind = grid_kind::uniform;
+    slots = 1;
+    pos = {};
 }
 
 grid_state::row_source grid_state::upload_queries(std::span<const float> q, const char* what) {
@@ -350,9 +475,21 @@ grid_state::row_source grid_state::upload_queries(std::span<const float> q, cons
         if (!std::isfinite(q[i]))
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " has a non-finite coordinate (axis " + std::to_string(i % dim) + ")");
-        if (params.periodic && std::abs(double(q[i])) >= double(params.box[i % dim]) * 0x1p30)
+        if (params.periodic && std::abs(double(q[i]) * scale) >= double(params.box[i % dim]) * 0x1p30)
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " lies more than 2^30 periodic boxes away on axis " + std::to_string(i % dim));
+    }
+    std::vector<float> scaled;
+    if (scale != 1) {
+        // In search units, as the oracle multiplies them. A far query may overflow when s > 1:
+        // the oracle's differences are then infinite (no neighbors), and a point at 2^127 has
+        // none either, since scaled data lie below 2^126 (search_scale) and r*s is far smaller.
+        scaled.resize(q.size());
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const float y = q[i] * scale;
+            scaled[i] = std::isinf(y) ? std::copysign(0x1p127f, q[i]) : y;
+        }
+        q = scaled;
     }
     ensure(query_pos, std::max<std::size_t>(q.size() * 4, 4), "query points");
     dev->upload(query_pos.view(), q.data(), q.size() * 4);
@@ -466,8 +603,10 @@ csr<float> grid_state::lists_to_host(const list_options& o, std::size_t k, const
         if (o.distances) {
             float* d = out.distances.data() + off[r0];
             dev->download(dist2.view(0, chunk * 4), d, chunk * 4);
-            // The host's sqrt is correctly rounded, so distances match the CPU grid bit for bit.
-            for (std::size_t e = 0; e < chunk; ++e) d[e] = std::sqrt(d[e]);
+            // The host's sqrt is correctly rounded, so distances match the CPU grid bit for bit;
+            // 1/s brings them back to the caller's units (as distance_test::distance does).
+            const float inv = 1.0f / scale;
+            for (std::size_t e = 0; e < chunk; ++e) d[e] = std::sqrt(d[e]) * inv;
         }
         r0 = r1;
     }
@@ -485,8 +624,6 @@ csr<float> grid_state::query_lists(std::span<const float> queries, std::size_t k
     }
     return lists_to_host(o, k, src, what);
 }
-
-void build_candidates_only(grid_state& g) { g.candidates_only = true; }
 
 }  // namespace detail
 
@@ -508,25 +645,30 @@ grid<D>& grid<D>::operator=(grid&&) noexcept = default;
 
 template <int D>
 void grid<D>::build(std::span<const float> coords, float radius, const grid_options& options) {
-    if (coords.size() % D != 0)
-        throw error("vulkan::grid::build: " + std::to_string(coords.size()) +
-                    " coordinates is not a multiple of " + std::to_string(D));
-    auto& s = *state_;
-    const std::size_t n = coords.size() / D;
-    s.ensure(s.own_pos, std::max<std::size_t>(coords.size() * 4, 4), "input positions");
-    s.dev->upload(s.own_pos.view(), coords.data(), coords.size() * sizeof(float));
-    s.build(s.own_pos.view(), n, radius, options);
+    try {
+        state_->build_from_host(coords, radius, options);
+    } catch (const std::bad_alloc&) {
+        state_->clear();  // documented: empty after bad_alloc, wherever it happened
+        throw;
+    }
 }
 
 template <int D>
 void grid<D>::build(buffer_view coords, std::size_t n, float radius, const grid_options& options) {
-    state_->build(coords, n, radius, options);
+    try {
+        state_->build_from_device(coords, n, radius, options);
+    } catch (const std::bad_alloc&) {
+        state_->clear();
+        throw;
+    }
 }
 
 template <int D>
 std::size_t grid<D>::size() const { return state_->n; }
 template <int D>
 float grid<D>::radius() const { return state_->radius; }
+template <int D>
+float grid<D>::search_scale() const { return state_->scale; }
 template <int D>
 grid_kind grid<D>::kind() const { return state_->kind; }
 template <int D>

@@ -74,6 +74,16 @@ TEST_F(vulkan_double, huge_coordinates_and_radius) {
     check<2>(uniform_points<double, 2>(300, -3e38, 3e38, 43), 4e37, uniform_points<double, 2>(30, -3e38, 3e38, 44));
 }
 
+TEST_F(vulkan_double, radii_whose_float_square_leaves_the_range) {
+    // The float candidate search runs with the search scale (r^2 overflows or underflows in
+    // float); the answer is still the double oracle's. Radii beyond float are refused.
+    check<3>(uniform_points<double, 3>(200, -3e35, 3e35, 53), 1e35, uniform_points<double, 3>(20, -3e35, 3e35, 54));
+    check<2>(uniform_points<double, 2>(200, -3e-30, 3e-30, 55), 1e-30,
+             uniform_points<double, 2>(20, -3e-30, 3e-30, 56));
+    const auto pts = uniform_points<double, 3>(20, 0, 5, 57);
+    refused([&] { search(ctx(), std::span<const double>(pts), 3, 1e300); }, "beyond the float range");
+}
+
 TEST_F(vulkan_double, ties_decided_in_double) {
     // Spacing 0.1 is not a float: pairs at exactly 2 and 3 steps are decided by double rounding.
     const auto l3 = lattice_points<double, 3>(7, 0.1, -0.3);

@@ -40,6 +40,17 @@ context_options test_options();
 /// The shared context, or nullptr with `why` set when no Vulkan device can be used.
 context* shared_context(std::string* why = nullptr);
 
+/// The message of the frnn::error that f() throws, or a text saying none was thrown.
+template <class F>
+std::string error_of(F&& f) {
+    try {
+        f();
+    } catch (const frnn::error& e) {
+        return e.what();
+    }
+    return "(no frnn::error thrown)";
+}
+
 /// Base fixture: skips without a device; fails a test that produced validation messages.
 class vulkan_test : public ::testing::Test {
 protected:
