@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/hashing.hpp"
+#include "core/kind_policy.hpp"
 #include "core/sweep.hpp"
 #include "cpu/page_release.hpp"
 #include "cpu/parallel.hpp"
@@ -45,50 +46,6 @@ struct point_record {
 inline std::int64_t floor_to_int(double v) {
     const auto i = std::int64_t(v);
     return i - std::int64_t(double(i) > v);
-}
-
-// The box of the bulk of the points, for the automatic kind: per axis, the range between the
-// 1/1024 quantiles of a sample of about 2^14 points, widened by an eighth of itself (and at
-// least one cell) on each side, so that points of a compact bulk all fall inside.
-template <class T, int D>
-void bulk_box(std::span<const T> coords, double cell, double* lo, double* hi) {
-    const std::size_t n = coords.size() / D;
-    const std::size_t stride = std::max<std::size_t>(1, n >> 14);
-    std::vector<double> v;
-    for (int a = 0; a < D; ++a) {
-        v.clear();
-        for (std::size_t i = 0; i < n; i += stride) v.push_back(double(coords[i * D + a]));
-        const std::size_t k = v.size() / 1024;
-        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-        const double low = v[k];
-        std::nth_element(v.begin(), v.end() - std::ptrdiff_t(k + 1), v.end());
-        const double high = v[v.size() - k - 1];
-        const double margin = std::max((high - low) / 8, cell);
-        lo[a] = low - margin, hi[a] = high + margin;
-    }
-}
-
-// How many points lie outside the box [lo, hi].
-template <class T, int D>
-std::size_t count_outside(std::span<const T> coords, const double* lo, const double* hi, int threads) {
-    const std::size_t n = coords.size() / D;
-    const std::size_t parts = detail::chunk_count(n, threads, 1 << 15);
-    std::vector<std::size_t> outside(parts, 0);
-    detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-        std::size_t count = 0;
-        for (std::size_t i = b; i < e; ++i) {
-            bool out = false;
-            for (int a = 0; a < D; ++a) {
-                const double x = double(coords[i * D + a]);
-                out |= (x < lo[a]) | (x > hi[a]);
-            }
-            count += out;
-        }
-        outside[c] = count;
-    });
-    std::size_t total = 0;
-    for (auto v : outside) total += v;
-    return total;
 }
 
 std::string fmt_double(double v) {
@@ -283,36 +240,19 @@ detail::grid_layout<T> grid<T, D>::plan(std::span<const T> coords, T radius, con
                 hi[a] = std::clamp(o.domain_max[a], -limit, limit) * double(l.scale);
             }
         }
-        auto cells_over = [&](const double* lb, const double* hb) {
-            double cells = 1;
-            for (int a = 0; a < D; ++a) cells *= std::floor((hb[a] - lb[a]) / cell) + 1;
-            return cells;
-        };
-        double cells = cells_over(lo.data(), hi.data());
-        // Cells smaller than r multiply the cells of a box by (r / cell)^D; the hashed grid
-        // would then look up that many more cells per point (nearly all empty), which costs
-        // far more than their 4 bytes each in a uniform grid. So the budget grows with them,
-        // up to 8 times.
-        const double cap = std::max(4.0 * double(n), 4096.0) * std::min(8.0, std::pow(r / cell, D));
-        grid_kind kind = o.kind;
-        if (kind == grid_kind::automatic && cells > cap && o.domain_min.empty()) {
-            // A few far outliers should not force the hashed grid: a uniform grid over the
-            // bulk takes them into its border cells (exact, as with an explicit domain) when
-            // they are at most one in 1024 points. It also takes them, however many, when
-            // they lie beyond the hashed grid's keys.
-            double blo[3] = {0, 0, 0}, bhi[3] = {0, 0, 0};
-            bulk_box<T, D>(coords, cell, blo, bhi);
-            bool beyond_keys = false;
-            for (int a = 0; a < D; ++a) beyond_keys |= std::max(std::abs(lo[a]), std::abs(hi[a])) / cell >= max_cell_coordinate;
-            const double bulk_cells = cells_over(blo, bhi);
-            if ((bulk_cells <= cap && count_outside<T, D>(coords, blo, bhi, threads) <= n / 1024) ||
-                (beyond_keys && bulk_cells <= max_uniform_cells)) {
-                for (int a = 0; a < D; ++a) lo[a] = blo[a], hi[a] = bhi[a];
-                cells = bulk_cells;
-                kind = grid_kind::uniform;
-            }
-        }
-        if (kind == grid_kind::automatic) kind = cells <= cap ? grid_kind::uniform : grid_kind::hashed;
+        detail::kind_question q;
+        q.asked = o.kind;
+        q.n = n;
+        for (int a = 0; a < D; ++a) q.lo[a] = lo[a], q.hi[a] = hi[a];
+        q.explicit_domain = !o.domain_min.empty();
+        q.cell = cell;
+        q.radius = r;
+        q.hashed_key_limit = max_cell_coordinate;
+        q.uniform_cell_limit = max_uniform_cells;
+        const detail::kind_answer choice = detail::choose_kind<T, D>(q, coords, threads);
+        const grid_kind kind = choice.kind;
+        const double cells = choice.cells;
+        for (int a = 0; a < D; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
         if (kind == grid_kind::uniform && !(cells <= max_uniform_cells))
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
                         " cells (extent / cell size); use the hashed grid");

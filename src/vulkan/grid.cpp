@@ -9,6 +9,7 @@
 #include <new>
 #include <string>
 
+#include "core/kind_policy.hpp"
 #include "device.hpp"
 #include "frnn/search_scale.hpp"
 #include "frnn/vulkan.hpp"
@@ -119,7 +120,7 @@ struct grid_state {
     }
 
     grid_layout configure(const grid_options& o, std::size_t count, float r, float s, const float* lo,
-                          const float* hi) const;
+                          const float* hi, std::span<const float> points) const;
     void configure_periodic(grid_layout& l, const grid_options& o, std::size_t count, float r, float s, double cell,
                             const double* lo, const double* hi) const;
     void check_arguments(std::size_t count, float r, const grid_options& o) const;
@@ -186,12 +187,12 @@ struct grid_state {
     std::size_t pairs = 0, rows = 0;
 };
 
-// `automatic`: uniform over the bounding box (or the domain) when it needs at most
-// max(4N, 4096) cells, hashed otherwise. Unlike the CPU grid, no factor for cells smaller than
-// r and no uniform grid over the bulk with far outliers folded into its border cells.
-// lo/hi: the bounding box in search units (already multiplied by s). Changes nothing.
+// `automatic`: the CPU grid's policy (core/kind_policy.hpp); the hashed grid here has no key
+// limit (it clamps cell coordinates at 2^30, which only merges far cells). lo/hi: the bounding
+// box in search units (already multiplied by s); `points`: the scaled points when they are on
+// the host (empty: no bulk box is tried). Changes nothing.
 grid_layout grid_state::configure(const grid_options& o, std::size_t count, float r, float s, const float* lo_in,
-                                  const float* hi_in) const {
+                                  const float* hi_in, std::span<const float> points) const {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
     if (o.domain_min.empty() != o.domain_max.empty())
@@ -222,11 +223,21 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
     if (!o.periodic.empty()) {
         configure_periodic(l, o, count, r, s, cell, lo, hi);
     } else {
-        double cells = 1;
-        for (int a = 0; a < dim; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1;
-        l.kind = o.kind;
-        if (l.kind == grid_kind::automatic)
-            l.kind = cells <= std::max(4.0 * double(count), 4096.0) ? grid_kind::uniform : grid_kind::hashed;
+        frnn::detail::kind_question q;
+        q.asked = o.kind;
+        q.n = count;
+        for (int a = 0; a < dim; ++a) q.lo[a] = lo[a], q.hi[a] = hi[a];
+        q.explicit_domain = !o.domain_min.empty();
+        q.cell = cell;
+        q.radius = double(search_r);
+        q.hashed_key_limit = INFINITY;
+        q.uniform_cell_limit = max_cells;
+        // (One thread: the host's share of a device build is a sample and one pass.)
+        const frnn::detail::kind_answer choice = dim == 2 ? frnn::detail::choose_kind<float, 2>(q, points, 1)
+                                                          : frnn::detail::choose_kind<float, 3>(q, points, 1);
+        const double cells = choice.cells;
+        for (int a = 0; a < dim; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
+        l.kind = choice.kind;
         if (l.kind == grid_kind::uniform && !(cells <= max_cells))
             throw error("vulkan::grid::build: a uniform grid over this domain would need " + std::to_string(cells) +
                         " cells, more than one storage buffer of this device holds (" +
@@ -341,7 +352,6 @@ void grid_state::build_from_host(std::span<const float> coords, float r, const g
     const float s = scale_for(r, lo, hi, o);
     // Scaling is monotone, so the scaled box is the box of the scaled points.
     for (int a = 0; a < dim; ++a) lo[a] *= s, hi[a] *= s;
-    const grid_layout l = configure(o, count, r, s, lo, hi);
     std::vector<float> scaled;
     if (s != 1) {
         // The oracle's multiplication, in float: below a quarter of FLT_MAX (search_scale), exact.
@@ -349,6 +359,7 @@ void grid_state::build_from_host(std::span<const float> coords, float r, const g
         for (std::size_t i = 0; i < coords.size(); ++i) scaled[i] = coords[i] * s;
         coords = scaled;
     }
+    const grid_layout l = configure(o, count, r, s, lo, hi, coords);
     commit(coords.data(), {}, count, r, s, l);
 }
 
@@ -389,7 +400,7 @@ void grid_state::build_from_device(buffer_view coords, std::size_t count, float 
         throw error("vulkan::grid::build: radius " + shortest(r) + " needs a search scale (r^2 leaves "
                     "float's normal range outside [2^-49, 2^63) = [1.78e-15, 9.22e18]), which a build from a "
                     "buffer_view cannot apply in place; build from host coordinates (scaled on the host)");
-    commit(nullptr, in, count, r, 1, configure(o, count, r, 1, lo, hi));
+    commit(nullptr, in, count, r, 1, configure(o, count, r, 1, lo, hi, {}));
 }
 
 // Everything checked: from here the grid changes, and any failure leaves it empty.

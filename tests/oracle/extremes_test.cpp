@@ -213,6 +213,8 @@ TEST(OracleExtremes, FarOutliers) {
         if (v != 1e4) outlier_case<float, 2>({v}, 1, 72);
     }
     outlier_case<float, 3>({1e8, -1e30}, 1, 73);
+    // More than 1 in 1024 beyond the hashed grid's keys: a uniform grid over the rest.
+    outlier_case<float, 3>({3e38, -3e38, 1e30, -1e30, 2e38, -2e38, 1e25, -1e25, 3e37, -3e37}, 1, 75);
     const double dmax = std::numeric_limits<double>::max();
     for (double v : {1e30, 1e300, dmax, -dmax}) outlier_case<double, 3>({v}, 1, 74);
 }

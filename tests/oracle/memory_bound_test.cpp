@@ -86,7 +86,9 @@ void lists_within_bound(const std::vector<T>& pts, T r, grid_kind kind, std::siz
         (void)g.query_counts(std::span<const T>(pts).first(D * 100));
     };
     EXPECT_TRUE(completes_within(output + query_bytes_per_point * n + fixed_allowance, prepare, query));
-    if (bites) EXPECT_FALSE(completes_within(output / 2, prepare, query)) << "the limit does not bite";
+    if (bites) {
+        EXPECT_FALSE(completes_within(output / 2, prepare, query)) << "the limit does not bite";
+    }
 }
 
 TEST(OracleMemory, HugeRadiusAndFarOutliers) {

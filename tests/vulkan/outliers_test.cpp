@@ -3,7 +3,8 @@
 // the loops of the other points of its SIMD group). One outlier from 1e4 to 1e30 and at -1e30,
 // several outliers (far duplicates that are each other's neighbors, mixed signs and axes), 2D
 // and 3D, automatic, uniform (over the bulk's domain: outliers fold into the border cells) and
-// hashed grids, periodic boxes where the outliers lie within 2^30 boxes.
+// hashed grids, periodic boxes where the outliers lie within 2^30 boxes; the automatic kind
+// is the CPU grid's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,8 +38,13 @@ protected:
             }
             SCOPED_TRACE(what + " kind=" + kind_name(kind));
             const grid_kind took = check_device<D>(ctx(), pts, 1.0f, o, queries, depth::basic);
-            if (kind == grid_kind::automatic) {
-                EXPECT_EQ(took, grid_kind::hashed);  // the device does not fold outliers (see VULKAN.md)
+            if (kind == grid_kind::automatic) {  // one policy for both backends (core/kind_policy.hpp)
+                try {
+                    EXPECT_EQ(took, (frnn::grid<float, D>(pts, 1.0f, o).kind()));
+                } catch (const frnn::error& e) {  // the CPU's hashed grid keys 2^52 cells, the device's all
+                    EXPECT_NE(std::string(e.what()).find("2^52 cells"), std::string::npos) << e.what();
+                    EXPECT_EQ(took, grid_kind::hashed);
+                }
             }
             if (HasFailure()) return;
         }
@@ -67,6 +73,38 @@ protected:
         }
     }
 };
+
+// The automatic kind is one policy (core/kind_policy.hpp): the device and the CPU grid choose
+// alike on the same points, whichever way the choice goes.
+TEST_F(vulkan_outliers, automatic_kind_is_the_cpu_grids) {
+    struct set {
+        std::vector<float> pts;
+        double cell_fraction;
+        grid_kind expected;
+        const char* what;
+    };
+    auto with = [](std::vector<float> pts, std::initializer_list<double> far) {
+        for (double v : far) append_point<float, 3>(pts, v);
+        return pts;
+    };
+    const auto bulk = uniform_points<float, 3>(3000, 0, 14, 41);
+    const std::vector<set> sets = {
+        {bulk, 1.0, grid_kind::uniform, "dense box"},
+        {uniform_points<float, 3>(3000, 0, 400, 42), 1.0, grid_kind::hashed, "sparse box"},
+        {with(bulk, {1e8}), 1.0, grid_kind::uniform, "one far outlier (folded)"},
+        {with(bulk, {1e8, -1e8, 2e8, 3e8, 4e8}), 1.0, grid_kind::hashed, "five far outliers (1 in 600)"},
+        {uniform_points<float, 3>(3000, 0, 8, 43), 0.25, grid_kind::uniform, "cells of r/4 (budget times 8)"},
+    };
+    for (const auto& s : sets) {
+        grid_options o;
+        o.cell_size = s.cell_fraction;
+        frnn::grid<float, 3> cpu(s.pts, 1.0f, o);
+        grid<3> device(ctx());
+        device.build(s.pts, 1.0f, o);
+        EXPECT_EQ(cpu.kind(), s.expected) << s.what;
+        EXPECT_EQ(device.kind(), cpu.kind()) << s.what;
+    }
+}
 
 TEST_F(vulkan_outliers, one_outlier_3d) {
     // The case at a third of its size: 1,700 points in [0, 12)^3.
