@@ -305,7 +305,7 @@ private:
     /// the coordinates in search space when the search scale is not 1.
     detail::grid_layout<T> plan(std::span<const T> coords, T radius, const grid_options& options,
                                 std::vector<T>& scaled) const;
-    void clear();
+    void clear() noexcept;
     void sort_into_cells(std::span<const T> coords);
     void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,
                             std::size_t parts);

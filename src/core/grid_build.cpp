@@ -286,18 +286,24 @@ detail::grid_layout<T> grid<T, D>::plan(std::span<const T> coords, T radius, con
     return l;
 }
 
-// The empty grid a failed allocation leaves (its configuration stays).
+// The empty grid a failed allocation leaves: a grid built over no points with the same radius
+// and options (valid, since they were), after the memory of the failed build is let go.
 template <class T, int D>
-void grid<T, D>::clear() {
+void grid<T, D>::clear() noexcept {
     for (auto& p : pos_) p = buffer<T>();
     for (auto& p : input_pos_) p = buffer<T>();
     perm_ = buffer<std::uint32_t>();
-    inverse_.invalidate();
-    offsets_.assign(1, 0);
-    if (layout_.kind == grid_kind::uniform) layout_.slots = 0;
-    occupied_.clear();
-    mixed_.clear();
-    nonempty_ = 0;
+    thread_counts_ = {};
+    scratch_.bytes = buffer<std::byte>();
+    occupied_ = {};
+    mixed_ = {};
+    try {
+        std::vector<T> none;
+        layout_ = plan({}, radius_, options_, none);
+        sort_into_cells({});
+    } catch (...) {
+        // Not even an empty grid's few bytes: size() is 0 already (perm_ is empty).
+    }
 }
 
 template <class T, int D>

@@ -188,7 +188,10 @@ void outlier_case(const std::vector<double>& outliers, double r, std::uint64_t s
         opt.kind = kind;
         opt.threads = 1;
         std::string what = "kind=" + kind_name(kind) + " outliers";
-        for (double v : outliers) what += " " + std::to_string(v);
+        for (double v : outliers) {  // (appended piece by piece: g++ 12 warns falsely on " " + string)
+            what += ' ';
+            what += std::to_string(v);
+        }
         SCOPED_TRACE(what);
         std::optional<grid<T, D>> g;
         try {

@@ -91,6 +91,30 @@ void lists_within_bound(const std::vector<T>& pts, T r, grid_kind kind, std::siz
     }
 }
 
+// A rebuild that runs out of memory leaves an empty grid that answers every query.
+TEST(OracleMemory, FailedAllocationLeavesAnEmptyGrid) {
+    if (sanitized) GTEST_SKIP() << "address space of the sanitizer";
+    grid<float, 3> g;
+    const auto small = uniform_points<float, 3>(1000, 0, 10, 4);
+    const auto large = uniform_points<float, 3>(4000000, 0, 150, 5);  // about 100 MB of structure
+    auto prepare = [&] { g.build(small, 1.0f); };
+    auto query = [&] {
+        grid_options o;
+        o.threads = 1;
+        try {
+            g.build(large, 1.0f, o);
+        } catch (const std::bad_alloc&) {
+            if (g.size() != 0 || !g.count_neighbors().empty() || g.neighbor_lists().rows() != 0) _exit(5);
+            if (g.query_counts(small) != std::vector<std::uint32_t>(1000, 0)) _exit(6);
+            g.rebuild(small);  // and it builds again
+            if (g.size() != 1000 || g.neighbor_lists().size() == 0) _exit(7);
+            return;
+        }
+        _exit(8);  // the limit did not bite
+    };
+    EXPECT_TRUE(completes_within(std::size_t(20) << 20, prepare, query));
+}
+
 TEST(OracleMemory, HugeRadiusAndFarOutliers) {
     if (sanitized) GTEST_SKIP() << "address space of the sanitizer";
     const std::size_t n = 3000;
