@@ -1,8 +1,8 @@
 // The float cases of the CPU oracle suite (tests/oracle: random_sets, adversarial and periodic
 // tests), same point sets, seeds, radii, grid kinds and cell sizes, run on the device with the
-// same checker. Not run here: the double cases, the large sets (450K-600K points, minutes of
-// brute force on lavapipe's host), thread invariance and bad input (CPU-only options; the
-// device's errors are in api_test.cpp).
+// same checker, and its double cases converted to float. Not run here: the large sets
+// (450K-600K points, minutes of brute force on lavapipe's host), thread invariance and bad
+// input (CPU-only options; the device's errors are in api_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,6 +56,31 @@ TEST_F(vulkan_cpu_cases, random_domain_smaller_than_data) {
     base.domain_max.assign(2, 6.5);
     every_grid<2>(pts, 1.2f, query_points<float, 2>(pts, 1.2, 100, {}, 32), base,
                   {grid_kind::automatic, grid_kind::uniform});
+}
+
+// The double cases of random_sets_test.cpp and adversarial_test.cpp converted to float (the
+// same seeds draw the same values, rounded) and checked against the float reference; cells of
+// r and r/4 only, to keep the suite short.
+TEST_F(vulkan_cpu_cases, double_cases_in_float) {
+    const std::vector<double> ends = {1.0, 0.25};
+    const std::vector<grid_kind> kinds = {grid_kind::automatic, grid_kind::uniform, grid_kind::hashed};
+    const auto u2 = uniform_points<float, 2>(500, 0, 10, 13);
+    every_grid<2>(u2, 1.0f, query_points<float, 2>(u2, 1.0, 150, {}, 14), {}, kinds, ends);
+    const auto u3 = uniform_points<float, 3>(500, 0, 8, 14);
+    every_grid<3>(u3, 1.5f, query_points<float, 3>(u3, 1.5, 150, {}, 15), {}, kinds, ends);
+    const auto c2 = clustered_points<float, 2>(500, 6, 1.0, -8, 8, 23);
+    every_grid<2>(c2, 0.6f, query_points<float, 2>(c2, 0.6, 150, {}, 24), {}, kinds, ends);
+    const auto c3 = clustered_points<float, 3>(500, 6, 1.0, -8, 8, 24);
+    every_grid<3>(c3, 1.0f, query_points<float, 3>(c3, 1.0, 150, {}, 25), {}, kinds, ends);
+    auto lattice = [&]<int D>(int side, double step, double origin, float r) {
+        SCOPED_TRACE("lattice side=" + std::to_string(side) + " origin=" + std::to_string(origin));
+        every_grid<D>(lattice_points<float, D>(side, step, origin), r,
+                      lattice_points<float, D>(side, step, origin + step / 2), {}, kinds, ends);
+    };
+    lattice.operator()<2>(16, 1, 0, 1.0f);
+    lattice.operator()<2>(16, 1, -7, 2.0f);
+    lattice.operator()<3>(6, 1, 0, 1.0f);
+    lattice.operator()<3>(6, 1, -3, 2.0f);
 }
 
 // adversarial_test.cpp
