@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <limits>
 #include <span>
+#include <string>
 
 #include "frnn/error.hpp"
 
@@ -79,6 +80,9 @@ struct distance_test {
 
     distance_test(T radius, T s, std::span<const double> periodic_lengths = {})
         : scale(s), inv_scale(T(1) / s), periodic(!periodic_lengths.empty()) {
+        if (periodic && periodic_lengths.size() != std::size_t(D))
+            throw error("periodic box needs " + std::to_string(D) + " lengths, got " +
+                        std::to_string(periodic_lengths.size()));
         const T r = radius * s;
         r2 = r * r;
         for (int a = 0; a < D && periodic; ++a) box[a] = T(periodic_lengths[std::size_t(a)]) * s;
