@@ -3,8 +3,6 @@
 // argument it runs the default 3D viscoelastic dam break of 32,768 particles.
 // Usage errors throw CLI::ValidationError (exit 2); bad scenes throw frnn::error (exit 1).
 #ifdef FRNN_SIM_AVAILABLE
-#include <omp.h>
-
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -34,7 +32,6 @@ void run_sim(const sim_args& a) {
     opt.png = a.png || a.video;
     opt.video = a.video;
     opt.progress = !a.quiet;
-    if (a.threads > 0) omp_set_num_threads(a.threads);
     if (!a.resume.empty()) {
         if (!a.scene_file.empty() || !a.scene_name.empty() || !a.solver.empty() || a.dim || a.particles || a.steps ||
             a.time >= 0 || a.every)

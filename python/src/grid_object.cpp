@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "frnn/parallel.hpp"
 #include "numpy_io.hpp"
 
 namespace frnn::python {
@@ -65,7 +66,7 @@ grid_options make_options(const grid_args& args, int dim) {
     o.kind = parse_grid_kind(args.grid);
     o.cell_size = args.cell_size.value_or(0.0);
     o.periodic = parse_periodic(args.periodic, dim);
-    // The upper bound only stops typos from asking OpenMP for a million threads.
+    // The upper bound only stops typos from asking for a million threads.
     if (args.threads && (*args.threads < 1 || *args.threads > 1024))
         throw py::value_error("threads must be in [1, 1024] (None uses all hardware threads); got " +
                               std::to_string(*args.threads));
@@ -146,13 +147,15 @@ static buffer<std::int64_t> sorted_pairs(const grid<T, D>& g) {
     o.order = row_order::index;
     const csr<T> c = g.neighbor_lists(o);
     buffer<std::int64_t> p(2 * c.size());  // not zero-filled: every value is written once
-    const auto rows = std::int64_t(g.size());
-#pragma omp parallel for schedule(static, 4096) num_threads(g.threads())
-    for (std::int64_t i = 0; i < rows; ++i)
-        for (auto k = c.offsets[std::size_t(i)]; k < c.offsets[std::size_t(i) + 1]; ++k) {
-            p[2 * k] = i;
-            p[2 * k + 1] = c.indices[k];
-        }
+    constexpr std::size_t block = 4096;
+    const std::size_t rows = g.size();
+    parallel_chunks((rows + block - 1) / block, g.threads(), [&](std::size_t b, int) {
+        for (std::size_t i = b * block; i < std::min(rows, (b + 1) * block); ++i)
+            for (auto k = c.offsets[i]; k < c.offsets[i + 1]; ++k) {
+                p[2 * k] = std::int64_t(i);
+                p[2 * k + 1] = c.indices[k];
+            }
+    });
     return p;
 }
 

@@ -1,8 +1,6 @@
 // State and steps shared by the solvers: particle arrays in cell order, the grid, neighbor
 // lists, collisions, the finite-value check and checkpoint I/O.
 #pragma once
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -15,6 +13,7 @@
 
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
+#include "frnn/parallel.hpp"
 #include "frnn/sim/solver.hpp"
 #include "neighbors.hpp"
 #include "parallel.hpp"
@@ -48,7 +47,7 @@ template <int D>
 class particle_solver : public solver {
 public:
     particle_solver(const scene& s, int threads)
-        : scene_(s), threads_(threads > 0 ? threads : std::max(1, omp_get_max_threads())), colliders_(s.colliders) {
+        : scene_(s), threads_(threads > 0 ? threads : default_thread_count()), colliders_(s.colliders) {
         auto seeded = seed(s);
         spacing_ = seeded.spacing;
         n_ = seeded.count;
@@ -126,14 +125,28 @@ protected:
         });
     }
 
+    /// The largest squared length of the per-particle vectors in `field` (D floats each).
+    double largest_norm_squared(const std::vector<float>& field) const {
+        return reduce(
+            n_, threads_, 0.0,
+            [&](std::size_t i) {
+                double sum = 0;
+                for (int a = 0; a < D; ++a) sum += double(field[i * D + a]) * field[i * D + a];
+                return sum;
+            },
+            [](double a, double b) { return std::max(a, b); });
+    }
+
     /// Throws if any position or velocity is not finite, naming the step and particle.
     void check_finite(std::uint64_t step) const {
-        std::size_t bad = n_;
-#pragma omp parallel for num_threads(threads_) if (n_ >= min_parallel) reduction(min : bad)
-        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i)
+        const auto finite = [&](std::size_t i) {
             for (int a = 0; a < D; ++a)
-                if (!std::isfinite(x_[std::size_t(i) * D + a]) || !std::isfinite(v_[std::size_t(i) * D + a]))
-                    bad = std::min(bad, std::size_t(i));
+                if (!std::isfinite(x_[i * D + a]) || !std::isfinite(v_[i * D + a])) return false;
+            return true;
+        };
+        const std::size_t bad = reduce(
+            n_, threads_, n_, [&](std::size_t i) { return finite(i) ? n_ : i; },
+            [](std::size_t a, std::size_t b) { return std::min(a, b); });
         if (bad < n_) {
             std::string what = "simulation diverged at step " + std::to_string(step) + " (t = " + std::to_string(time_) +
                                " s): particle " + std::to_string(id_[bad]) + " has position (";

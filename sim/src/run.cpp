@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "frnn/error.hpp"
+#include "frnn/parallel.hpp"
 #include "frnn/sim/output.hpp"
 #include "frnn/sim/solver.hpp"
 #include "particle_solver.hpp"
@@ -181,7 +182,7 @@ void make_video(const std::string& dir, double fps) {
 
 run_result execute(run_state& st, solver& sol, const run_options& opt, const std::string& dir, bool resumed) {
     const scene& sc = sol.get_scene();
-    const int threads = opt.threads > 0 ? opt.threads : std::max(1, omp_get_max_threads());
+    const int threads = opt.threads > 0 ? opt.threads : default_thread_count();
     profiler prof(!opt.trace_path.empty(), threads);
     const double g = std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
     const double height = sc.domain_max[1] - sc.domain_min[1];

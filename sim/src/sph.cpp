@@ -89,17 +89,7 @@ private:
 
     /// CFL condition on sound speed plus flow speed, and the force condition.
     double time_step() const {
-        double vmax2 = 0, amax2 = 0;
-#pragma omp parallel for num_threads(threads_) if (n_ >= min_parallel) reduction(max : vmax2, amax2)
-        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n_); ++i) {
-            double v2 = 0, a2 = 0;
-            for (int a = 0; a < D; ++a) {
-                v2 += double(v_[std::size_t(i) * D + a]) * v_[std::size_t(i) * D + a];
-                a2 += double(acc_[std::size_t(i) * D + a]) * acc_[std::size_t(i) * D + a];
-            }
-            vmax2 = std::max(vmax2, v2);
-            amax2 = std::max(amax2, a2);
-        }
+        const double vmax2 = this->largest_norm_squared(v_), amax2 = this->largest_norm_squared(acc_);
         double dt = std::min(prm_.max_dt, prm_.cfl * h_ / (c0_ + std::sqrt(vmax2)));
         if (amax2 > 0) dt = std::min(dt, 0.25 * std::sqrt(h_ / std::sqrt(amax2)));
         if (dt < 1e-3 * std::min(prm_.max_dt, prm_.cfl * h_ / c0_))

@@ -154,10 +154,10 @@ struct query_engine {
             const std::size_t parts = chunk_count(rows, threads, 2048);
             const int workers = int(std::min<std::size_t>(parts, std::size_t(threads)));
             std::vector<std::vector<std::uint32_t>> partners(std::size_t(workers), std::vector<std::uint32_t>(rows, 0));
-            for_each_chunk(rows, parts, workers, [&](std::size_t, std::size_t b, std::size_t e) {
+            parallel_chunks(parts, workers, [&](std::size_t c, int worker) {
                 sweep_job<T> own = job;
-                own.partner_counts = partners[std::size_t(omp_get_thread_num())].data();
-                kernels.count_pairs(g, own, b, e);
+                own.partner_counts = partners[std::size_t(worker)].data();
+                kernels.count_pairs(g, own, chunk_bound(rows, parts, c), chunk_bound(rows, parts, c + 1));
             });
             for_each_chunk(rows, chunk_count(rows, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
                 for (const auto& p : partners)

@@ -1,18 +1,19 @@
-// Threaded execution of the core's steps with OpenMP. Work is cut into chunks whose results
-// are combined in chunk order, so every output is identical for any thread count.
+// Threaded execution of the core's steps on frnn's pool (frnn/parallel.hpp). Work is cut into
+// chunks whose results are combined in chunk order, so every output is identical for any thread
+// count.
 #pragma once
-#include <omp.h>
-
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "frnn/parallel.hpp"
+
 namespace frnn::detail {
 
 /// 0 means every hardware thread.
 inline int resolve_threads(int requested) {
-    return requested > 0 ? requested : std::max(1, omp_get_max_threads());
+    return requested > 0 ? requested : default_thread_count();
 }
 
 /// Splits [0, n) into `parts` contiguous chunks; chunk c is [bound(c), bound(c+1)).
@@ -24,12 +25,9 @@ inline std::size_t chunk_bound(std::size_t n, std::size_t parts, std::size_t c) 
 /// Chunks are handed out dynamically: callers must not depend on which thread runs which.
 template <class F>
 void for_each_chunk(std::size_t n, std::size_t parts, int threads, F&& f) {
-    if (parts <= 1 || threads <= 1) {
-        for (std::size_t c = 0; c < parts; ++c) f(c, chunk_bound(n, parts, c), chunk_bound(n, parts, c + 1));
-        return;
-    }
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t c = 0; c < parts; ++c) f(c, chunk_bound(n, parts, c), chunk_bound(n, parts, c + 1));
+    parallel_chunks(parts, std::max(threads, 1), [&](std::size_t c, int) {
+        f(c, chunk_bound(n, parts, c), chunk_bound(n, parts, c + 1));
+    });
 }
 
 /// How many chunks to cut n items into: enough for load balance, none tiny.

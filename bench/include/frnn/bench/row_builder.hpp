@@ -5,36 +5,28 @@
 // freed. As std::vector they grew in each worker thread's heap, which malloc_trim does not
 // shrink, and stayed resident into the next method's peak RSS (28 MiB after W1 at 262K).
 // O(N + pairs) beyond the visits; memory: the lists twice at the peak (buffers + result).
-// Include only from files compiled with OpenMP; `visit` must be safe to call concurrently.
+// `visit` must be safe to call concurrently.
 #pragma once
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <exception>
 #include <vector>
 
 #include "frnn/buffer.hpp"
 #include "frnn/csr.hpp"
+#include "frnn/parallel.hpp"
 
 namespace frnn::bench::detail {
 
 // Runs body(block, first_row, end_row) for `threads` contiguous blocks of [0, n) in parallel;
-// an exception thrown in a block is rethrown here (never let one escape an OpenMP region).
+// an exception thrown in a block is rethrown here.
 template <class Body>
 void for_row_blocks(std::size_t n, int threads, Body&& body) {
     threads = std::max(1, threads);
-    std::exception_ptr failure;
-#pragma omp parallel for num_threads(threads) schedule(static, 1)
-    for (int b = 0; b < threads; ++b) {
-        try {
-            body(b, n * std::size_t(b) / std::size_t(threads),
-                 n * std::size_t(b + 1) / std::size_t(threads));
-        } catch (...) {
-#pragma omp critical(frnn_bench_failure)
-            failure = std::current_exception();
-        }
-    }
-    if (failure) std::rethrow_exception(failure);
+    const auto blocks = std::size_t(threads);
+    parallel_chunks(blocks, threads, [&](std::size_t b, int) {
+        body(int(b), n * b / blocks, n * (b + 1) / blocks);
+    });
 }
 
 /// counts[i] = number of j passed by visit(i, emit) calling emit(j).
