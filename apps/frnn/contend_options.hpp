@@ -29,6 +29,12 @@ struct contend_args {
     }
 };
 
+/// The load and the kernel's scheduling, as reports print them: "1 busy thread in this
+/// process; kernel autogroup scheduling: on".
+inline std::string load_label(const bench::contention& load) {
+    return load.describe() + "; kernel autogroup scheduling: " + bench::autogroup_scheduling();
+}
+
 /// Adds --contend and --contend-process to `sub`; `while_what` ends their help text.
 inline void add_contend_options(CLI::App* sub, contend_args& a, const std::string& while_what) {
     auto* t = sub->add_option("--contend", a.threads, "K busy threads in this process " + while_what)
