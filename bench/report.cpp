@@ -84,7 +84,7 @@ void load_table(std::string& md, const report& rep, const case_info& c) {
         if (!r->contended_ms) continue;
         md += "| " + r->method + " | " + std::to_string(r->threads) + " | " + r->phase + " | " +
               readable(r->ms) + " | " + readable(*r->contended_ms) + " | " +
-              (r->ms > 0 ? readable(*r->contended_ms / r->ms) : std::string("-")) + " | " +
+              (r->ms > 0 ? format("%.2f", *r->contended_ms / r->ms) : std::string("-")) + " | " +
               std::to_string(r->load_pairs) + " |\n";
     }
 }

@@ -53,8 +53,8 @@ TEST(BenchResults, UnderLoadTableGivesBothMediansAndTheirRatio) {
     ASSERT_EQ(rows.size(), 4u) << md;  // header, rule, two rows
     EXPECT_EQ(rows[0], (std::vector<std::string>{"method", "threads", "phase", "quiet ms", "contended ms",
                                                  "contended/quiet", "pairs of runs"}));
-    EXPECT_EQ(rows[2], (std::vector<std::string>{"frnn", "2", "build", "2.000", "3.000", "1.500", "5"}));
-    EXPECT_EQ(rows[3], (std::vector<std::string>{"frnn", "2", "count", "4.000", "5.000", "1.250", "6"}));
+    EXPECT_EQ(rows[2], (std::vector<std::string>{"frnn", "2", "build", "2.000", "3.000", "1.50", "5"}));
+    EXPECT_EQ(rows[3], (std::vector<std::string>{"frnn", "2", "count", "4.000", "5.000", "1.25", "6"}));
     const std::string csv = fb::to_csv(rep);
     EXPECT_NE(csv.find("\nW2,10,2,frnn,build,2,200,,3,5\n"), std::string::npos) << csv;
     EXPECT_NE(csv.find("\nW2,10,2,frnn,count,4,400,36,5,6\n"), std::string::npos) << csv;
