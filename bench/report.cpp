@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <set>
 
+#include "frnn/bench/measure.hpp"
+
 namespace frnn::bench {
 namespace {
 
@@ -70,6 +72,23 @@ void ratio_table(std::string& md, const report& rep, const case_info& c) {
         }
 }
 
+// Each row's quiet and contended medians side by side, under the line that names the load.
+void load_table(std::string& md, const report& rep, const case_info& c) {
+    if (rep.load.empty()) return;
+    md += "\nUnder load: " + rep.load + "; kernel autogroup scheduling: " + rep.autogroup +
+          ". Each timed run was followed by one under load (load on, " +
+          std::to_string(load_settle.count()) + " ms to settle, the run, load off):\n\n";
+    md += "| method | threads | phase | quiet ms | contended ms | contended/quiet | pairs of runs |\n";
+    md += "|---|---:|---|---:|---:|---:|---:|\n";
+    for (const row* r : rows_of(rep, c)) {
+        if (!r->contended_ms) continue;
+        md += "| " + r->method + " | " + std::to_string(r->threads) + " | " + r->phase + " | " +
+              readable(r->ms) + " | " + readable(*r->contended_ms) + " | " +
+              (r->ms > 0 ? format("%.2f", *r->contended_ms / r->ms) : std::string("-")) + " | " +
+              std::to_string(r->load_pairs) + " |\n";
+    }
+}
+
 void scaling_table(std::string& md, const report& rep, const case_info& c) {
     const auto threads = frnn_threads(rep, c);
     if (threads.size() < 2) return;
@@ -108,7 +127,9 @@ std::string to_csv(const report& rep) {
             out += r->workload + "," + std::to_string(r->n) + "," + std::to_string(r->threads) +
                    "," + r->method + "," + r->phase + "," + format("%.6g", r->ms) + "," +
                    format("%.6g", r->ns_per_particle) + "," +
-                   (r->pairs ? std::to_string(*r->pairs) : std::string()) + "\n";
+                   (r->pairs ? std::to_string(*r->pairs) : std::string()) + "," +
+                   (r->contended_ms ? format("%.6g", *r->contended_ms) : std::string()) + "," +
+                   (r->load_pairs ? std::to_string(r->load_pairs) : std::string()) + "\n";
         for (const auto& v : c.voids) out += "# " + v + "\n";
     }
     return out;
@@ -133,6 +154,7 @@ std::string to_markdown(const report& rep) {
             md += "| " + r->method + " | " + std::to_string(r->threads) + " | " + r->phase + " | " +
                   readable(r->ms) + " | " + readable(r->ns_per_particle) + " | " +
                   (r->pairs ? grouped(*r->pairs) : std::string("-")) + " |\n";
+        load_table(md, rep, c);
         ratio_table(md, rep, c);
         scaling_table(md, rep, c);
         memory_table(md, rep, c);

@@ -27,8 +27,8 @@ std::uint64_t total(const std::vector<std::uint32_t>& counts) {
 template <class T, int D>
 class case_runner {
 public:
-    case_runner(const config& cfg, const workload& w, std::size_t size, report& rep)
-        : cfg_(cfg), rep_(rep), coords_(generate<T>(w, size)), radius_(T(w.radius)) {
+    case_runner(const config& cfg, const workload& w, std::size_t size, report& rep, contention* load)
+        : cfg_(cfg), rep_(rep), load_(load), coords_(generate<T>(w, size)), radius_(T(w.radius)) {
         info_.workload = w.id;
         info_.name = w.name;
         info_.side = lattice_side(w, size);
@@ -68,11 +68,11 @@ private:
     void add(int threads, const std::string& method, const std::string& phase,
              const measurement& m) {
         rep_.rows.push_back({info_.workload, n(), threads, method, phase, m.median_ms,
-                             m.median_ms * 1e6 / double(n()), m.pairs});
+                             m.median_ms * 1e6 / double(n()), m.pairs, m.contended_ms, m.load_pairs});
         if (!m.pairs_agree)
             void_note("VOID " + info_.workload + " n=" + std::to_string(n()) + ": " + method + "/" +
-                      phase + "/t" + std::to_string(threads) +
-                      " found different pair counts in its repetitions");
+                      phase + "/t" + std::to_string(threads) + " found different pair counts in its repetitions" +
+                      (load_ ? " (quiet and under load)" : ""));
     }
     void add_memory(int threads, const std::string& method, std::size_t structure_bytes) {
         rep_.memory.push_back({info_.workload, n(), threads, method,
@@ -90,7 +90,7 @@ private:
                 sw.start();
                 const auto structure = make();
                 return sample{sw.stop(), {}};
-            }));
+            }, load_));
         std::size_t structure_bytes = 0;
         {
             const auto structure = make();
@@ -101,13 +101,13 @@ private:
                     const auto c = counts(structure);
                     const double ms = sw.stop();
                     return sample{ms, total(c)};
-                }));
+                }, load_));
             add(threads, method, "list", measure(r, [&] {
                     stopwatch sw;
                     sw.start();
                     const auto l = lists(structure);
                     return sample{sw.stop(), l.size()};
-                }));
+                }, load_));
         }
         add(threads, method, "build+list", measure(r, [&] {
                 stopwatch sw;
@@ -115,7 +115,7 @@ private:
                 const auto structure = make();
                 const auto l = lists(structure);
                 return sample{sw.stop(), l.size()};
-            }));
+            }, load_));
         add_memory(threads, method, structure_bytes);
     }
 
@@ -140,7 +140,7 @@ private:
                 sw.start();
                 g.rebuild(moved);
                 return sample{sw.stop(), {}};
-            }));
+            }, load_));
     }
 
     void run_nanoflann(int threads) {
@@ -179,30 +179,31 @@ private:
                 const auto counts = brute_count_neighbors<T, D>(points(), radius_);
                 const double ms = sw.stop();
                 return sample{ms, total(counts)};
-            }));
+            }, load_));
         // Brute force has no structure: its lists from scratch are its build+list.
         add(1, "brute", "build+list", measure(r, [&] {
                 stopwatch sw;
                 sw.start();
                 const auto lists = brute_neighbor_lists<T, D>(points(), radius_);
                 return sample{sw.stop(), lists.size()};
-            }));
+            }, load_));
         add_memory(1, "brute", 0);
     }
 
     const config& cfg_;
     report& rep_;
+    contention* load_;  // null: no runs under load
     std::vector<T> coords_;
     T radius_;
     case_info info_;
 };
 
 template <class T>
-void run_case(const config& cfg, const workload& w, std::size_t size, report& rep) {
+void run_case(const config& cfg, const workload& w, std::size_t size, report& rep, contention* load) {
     if (w.dim == 2)
-        case_runner<T, 2>(cfg, w, size, rep).run();
+        case_runner<T, 2>(cfg, w, size, rep, load).run();
     else
-        case_runner<T, 3>(cfg, w, size, rep).run();
+        case_runner<T, 3>(cfg, w, size, rep, load).run();
 }
 
 std::string settings_text(const config& cfg) {
@@ -211,7 +212,11 @@ std::string settings_text(const config& cfg) {
     s += cfg.cell_factor > 0 ? std::to_string(cfg.cell_factor) + " r" : "default";
     s += "; frnn lists in ";
     s += cfg.space == index_space::sorted ? "sorted (cell) order" : "the caller's order";
-    s += "; median of " + std::to_string(cfg.repeat) + " runs after 1 warm-up";
+    if (cfg.contend > 0)
+        s += "; median of " + std::to_string(std::max(cfg.repeat, min_load_pairs)) +
+             " runs after 1 warm-up, each followed by one under load";
+    else
+        s += "; median of " + std::to_string(cfg.repeat) + " runs after 1 warm-up";
     return s;
 }
 
@@ -317,11 +322,19 @@ report run(const config& cfg) {
                   " hardware threads";
     rep.build = build_description();
     rep.settings = settings_text(cfg);
+    // Made before the points, so that busy children are forked from a small process.
+    std::optional<contention> load;
+    if (cfg.contend > 0) {
+        load.emplace(cfg.contend, cfg.contend_mode);
+        rep.load = load->describe();
+        rep.autogroup = autogroup_scheduling();
+    }
+    contention* const load_ptr = load ? &*load : nullptr;
     for (const auto& [w, size] : plan) {
         if (cfg.double_precision)
-            run_case<double>(cfg, *w, size, rep);
+            run_case<double>(cfg, *w, size, rep, load_ptr);
         else
-            run_case<float>(cfg, *w, size, rep);
+            run_case<float>(cfg, *w, size, rep, load_ptr);
     }
     return rep;
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "command.hpp"
+#include "contend_options.hpp"
 #include "frnn/error.hpp"
 
 #ifdef FRNN_BENCH_AVAILABLE
@@ -32,6 +33,7 @@ struct bench_args {
     std::string kind = "auto";
     double cell = 0;
     std::string space = "original";
+    contend_args contend;
 };
 
 template <class V>
@@ -54,6 +56,7 @@ std::string command_line(const bench_args& a) {
     if (a.cell != 0) s += " --cell " + std::to_string(a.cell);
     if (a.space != "original") s += " --space " + a.space;
     if (a.baselines) s += " --baselines";
+    s += a.contend.flag();
     return s;
 }
 
@@ -74,6 +77,8 @@ void run_bench(bench_args a) {
     cfg.kind = parse_grid_kind(a.kind);
     cfg.cell_factor = a.cell;
     cfg.space = a.space == "sorted" ? index_space::sorted : index_space::original;
+    cfg.contend = a.contend.count();
+    cfg.contend_mode = a.contend.mode();
     cfg.command = command_line(a);
     cfg.progress = &std::cerr;
 
@@ -128,6 +133,8 @@ const register_command reg{"bench", [](CLI::App& app) {
     sub->add_option("--space", args->space, "numbering of frnn's neighbor lists")
         ->check(CLI::IsMember({"original", "sorted"}))
         ->capture_default_str();
+    add_contend_options(sub, args->contend,
+                        "during a second run paired with each timed run (table \"Under load\")");
     sub->callback([args] {
 #ifdef FRNN_BENCH_AVAILABLE
         run_bench(*args);

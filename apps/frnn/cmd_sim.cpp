@@ -8,6 +8,7 @@
 #include <string>
 
 #include "command.hpp"
+#include "contend_options.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/run.hpp"
 #include "frnn/sim/scene.hpp"
@@ -22,10 +23,14 @@ struct sim_args {
     std::uint64_t steps = 0;
     double time = -1;
     bool png = false, video = false, quiet = false;
+    contend_args contend;
 };
 
 void run_sim(const sim_args& a) {
     sim::run_options opt;
+    // Forked (--contend-process) before the particles exist; lives until the run has ended.
+    const auto load = a.contend.make();
+    if (load) opt.load = {[&load](bool busy) { busy ? load->busy() : load->quiet(); }, 10, load_label(*load)};
     opt.out_dir = a.out;
     opt.threads = a.threads;
     opt.trace_path = a.trace;
@@ -85,6 +90,7 @@ const register_command reg{"sim", [](CLI::App& app) {
     c->add_flag("--video", args->video, "Also make particles.mp4 with ffmpeg (implies --png)");
     c->add_option("--resume", args->resume, "Continue the interrupted run in DIR from its last checkpoint");
     c->add_flag("--quiet", args->quiet, "No progress on stderr");
+    add_contend_options(c, args->contend, "in every other block of 10 steps (columns quiet/contended in the table)");
     c->callback([args] { run_sim(*args); });
 }};
 

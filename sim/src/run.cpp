@@ -180,6 +180,43 @@ void make_video(const std::string& dir, double fps) {
     std::fprintf(stderr, "video: %s/particles.mp4\n", dir.c_str());
 }
 
+// The line above the table under a load: what ran, and how many blocks, or that too few did.
+std::string load_line(const profiler& prof, const load_hook& load) {
+    const std::uint64_t b = load.block_steps;
+    std::string s = "under load (" + load.label + "): blocks of " + std::to_string(b) + " steps after " + std::to_string(b) +
+                    " warm-up steps, quiet and contended in turn; ";
+    const std::string counts = std::to_string(prof.blocks(false)) + " quiet and " + std::to_string(prof.blocks(true)) + " contended blocks";
+    if (prof.enough_blocks()) return s + "medians over " + counts + "\n";
+    return s + "TOO SHORT TO COMPARE: " + counts + ", at least " + std::to_string(profiler::min_blocks) +
+           " of each are needed (run at least " + std::to_string(b * (1 + 2 * profiler::min_blocks)) + " steps)\n";
+}
+
+// summary.json's "under_load": the blocks and, when there are enough, the medians by stage.
+json load_summary(const profiler& prof, const load_hook& load) {
+    json j;
+    j["load"] = load.label;
+    j["block_steps"] = load.block_steps;
+    j["warm_up_steps"] = load.block_steps;
+    j["quiet_blocks"] = prof.blocks(false);
+    j["contended_blocks"] = prof.blocks(true);
+    j["enough_blocks"] = prof.enough_blocks();
+    if (!prof.enough_blocks()) return j;
+    json quiet = json::object(), contended = json::object(), ratio = json::object();
+    const auto put = [&](const std::string& name, double q, double c) {
+        quiet[name] = q;
+        contended[name] = c;
+        ratio[name] = q > 0 ? json(c / q) : json(nullptr);
+    };
+    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
+        if (prof.total_seconds(stage(s)) > 0 && stage(s) != stage::output)
+            put(to_string(stage(s)), prof.block_median_ms(false, stage(s)), prof.block_median_ms(true, stage(s)));
+    put("step without output", prof.block_median_step_ms(false), prof.block_median_step_ms(true));
+    j["quiet_ms_per_step"] = quiet;
+    j["contended_ms_per_step"] = contended;
+    j["contended_over_quiet"] = ratio;
+    return j;
+}
+
 run_result execute(run_state& st, solver& sol, const run_options& opt, const std::string& dir, bool resumed) {
     const scene& sc = sol.get_scene();
     const int threads = opt.threads > 0 ? opt.threads : default_thread_count();
@@ -189,6 +226,16 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
     const double color_speed = std::max(0.5, std::sqrt(2 * std::max(g, 1e-3) * height));
     const double frame_dt = 1 / sc.output.fps;
     std::size_t frames_since_checkpoint = 0;
+    const bool under_load = bool(opt.load.set);
+    const std::uint64_t block = opt.load.block_steps;
+    if (under_load && block == 0) throw error("run_options: load.block_steps must be > 0");
+    // Block k starts at step k * block of this run: block 0 warms up, then quiet and busy in turn.
+    auto start_block = [&](std::uint64_t k) {
+        prof.end_block();
+        if (k == 0) return;
+        opt.load.set(k % 2 == 0);
+        prof.start_block(k % 2 == 0);
+    };
 
     auto write_frame = [&] {
         const stage_timer timer(prof, stage::output);
@@ -235,6 +282,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
             interrupted = true;
             break;
         }
+        if (under_load && this_run % block == 0) start_block(this_run / block);
         sol.step(prof);
         ++this_run;
         bool frame_due = sc.output.every > 0 ? sol.steps() % std::uint64_t(sc.output.every) == 0
@@ -257,6 +305,10 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         meter.update(fraction(), sol.steps(), sol.time(), wall, st.frames.size() - 1, frame_due);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    if (under_load) {
+        if (this_run % block == 0) prof.end_block();  // else the last block is incomplete: dropped
+        opt.load.set(false);
+    }
 
     run_result res;
     res.out_dir = dir;
@@ -270,6 +322,12 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
     res.finished = !interrupted;
     for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
         if (prof.total_seconds(stage(s)) > 0) res.stage_ms.emplace_back(to_string(stage(s)), prof.mean_ms(stage(s)));
+    res.quiet_blocks = prof.blocks(false);
+    res.contended_blocks = prof.blocks(true);
+    if (prof.enough_blocks()) {
+        res.quiet_step_ms = prof.block_median_step_ms(false);
+        res.contended_step_ms = prof.block_median_step_ms(true);
+    }
     if (interrupted) return res;
 
     save_checkpoint(dir, st, sol);
@@ -295,6 +353,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
     summary["mean_ms_per_step"] = stages;
     summary["mean_process_cpu_ms_per_step"] = cpu;
     summary["step_ms_without_output"] = res.step_ms;
+    if (under_load) summary["under_load"] = load_summary(prof, opt.load);
     if (sc.front.enabled && !st.front.empty()) {
         std::ostringstream csv;
         csv.precision(6);
@@ -314,7 +373,8 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),
                     res.particles, to_string(sc.solver).c_str(), sc.dim, (unsigned long long)res.steps, res.sim_time, wall,
                     threads);
-        std::printf("%s", prof.table().c_str());
+        if (under_load) std::printf("%s", load_line(prof, opt.load).c_str());
+        std::printf("%s", prof.table(under_load).c_str());
         if (res.front_deviation >= 0)
             std::printf("surge front vs Martin & Moyce (1952): mean relative deviation %.1f%% over T in [1, 4] (%s/front.csv)\n",
                         100 * res.front_deviation, dir.c_str());

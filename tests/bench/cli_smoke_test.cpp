@@ -4,11 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
-#include <sys/wait.h>
 
 #include "frnn/bench/brute_baseline.hpp"
 #include "frnn/bench/report.hpp"
@@ -17,33 +15,15 @@
 #include "scratch_dir.hpp"
 
 #ifdef FRNN_TOOL_PATH
+#include "bench/tool.hpp"
 
 namespace fb = frnn::bench;
+using frnn::test::run;
 using frnn::test::scratch_dir;
+using frnn::test::slurp;
+using frnn::test::split;
 
 namespace {
-
-int run(const std::string& args) {
-    const std::string cmd = std::string("'") + FRNN_TOOL_PATH + "' " + args;
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-std::vector<std::string> split(const std::string& line, char sep) {
-    std::vector<std::string> out;
-    std::string item;
-    std::istringstream in(line);
-    while (std::getline(in, item, sep)) out.push_back(item);
-    if (!line.empty() && line.back() == sep) out.emplace_back();
-    return out;
-}
 
 std::uint64_t oracle_pairs(const std::string& id, std::size_t n) {
     const auto& w = fb::find_workload(id);
@@ -63,7 +43,7 @@ void smoke(const std::string& workloads, std::size_t n, const std::string& tag) 
     std::istringstream in(slurp(csv));
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
-    EXPECT_EQ(line, "workload,n,threads,method,phase,ms,ns_per_particle,pairs");
+    EXPECT_EQ(line, "workload,n,threads,method,phase,ms,ns_per_particle,pairs,contended_ms,load_pairs");
     const std::set<std::string> methods(fb::methods.begin(), fb::methods.end());
     const std::set<std::string> phases(fb::phases.begin(), fb::phases.end());
     std::map<std::string, std::set<std::uint64_t>> pairs;          // workload -> pair counts
@@ -72,7 +52,7 @@ void smoke(const std::string& workloads, std::size_t n, const std::string& tag) 
     while (std::getline(in, line)) {
         ASSERT_NE(line.rfind("# VOID", 0), 0u) << line;
         const auto f = split(line, ',');
-        ASSERT_EQ(f.size(), 8u) << line;
+        ASSERT_EQ(f.size(), 10u) << line;
         const std::string& w = f[0];
         EXPECT_EQ(std::stoull(f[1]), fb::point_count(fb::find_workload(w), n)) << line;  // real count
         EXPECT_TRUE(f[2] == "1" || f[2] == "2") << line;
@@ -83,6 +63,7 @@ void smoke(const std::string& workloads, std::size_t n, const std::string& tag) 
         const bool searches = f[4] != "build" && f[4] != "update";
         EXPECT_EQ(!f[7].empty(), searches) << line;
         if (searches) pairs[w].insert(std::stoull(f[7]));
+        EXPECT_TRUE(f[8].empty() && f[9].empty()) << "figures under load without a load: " << line;
         seen[w].insert(f[3] + "/" + f[4] + "/" + f[2]);
         ++rows;
     }
@@ -177,14 +158,14 @@ TEST(BenchCli, BadArgumentsFailCleanly) {
 
 TEST(BenchResults, DisagreeingPairCountsAreVoid) {
     std::vector<fb::row> rows{
-        {"W1", 8, 1, "frnn", "count", 1, 1, 100},
-        {"W1", 8, 2, "frnn", "list", 1, 1, 100},
-        {"W1", 8, 1, "frnn", "build", 1, 1, std::nullopt},
-        {"W1", 8, 1, "nanoflann", "list", 1, 1, 100},
-        {"W2", 8, 1, "nanoflann", "list", 1, 1, 98},  // another case: not compared
+        {"W1", 8, 1, "frnn", "count", 1, 1, 100, std::nullopt, 0},
+        {"W1", 8, 2, "frnn", "list", 1, 1, 100, std::nullopt, 0},
+        {"W1", 8, 1, "frnn", "build", 1, 1, std::nullopt, std::nullopt, 0},
+        {"W1", 8, 1, "nanoflann", "list", 1, 1, 100, std::nullopt, 0},
+        {"W2", 8, 1, "nanoflann", "list", 1, 1, 98, std::nullopt, 0},  // another case: not compared
     };
     EXPECT_TRUE(fb::disagreements(rows, "W1", 8).empty());
-    rows.push_back({"W1", 8, 1, "cell-list", "list", 1, 1, 99});
+    rows.push_back({"W1", 8, 1, "cell-list", "list", 1, 1, 99, std::nullopt, 0});
     const auto v = fb::disagreements(rows, "W1", 8);
     ASSERT_EQ(v.size(), 1u);
     EXPECT_NE(v[0].find("VOID"), std::string::npos);
@@ -201,6 +182,7 @@ TEST(BenchResults, DisagreeingPairCountsAreVoid) {
     const std::string csv = fb::to_csv(rep);
     EXPECT_EQ(csv.rfind(std::string(fb::csv_header) + "\n", 0), 0u);
     EXPECT_NE(csv.find("\n# VOID W1"), std::string::npos);
-    EXPECT_NE(csv.find("W1,8,1,frnn,build,1,1,\n"), std::string::npos);  // no pairs for a build
+    EXPECT_NE(csv.find("W1,8,1,frnn,build,1,1,,,\n"), std::string::npos);  // no pairs for a build
+    EXPECT_EQ(fb::to_markdown(rep).find("Under load"), std::string::npos);
     EXPECT_NE(fb::to_markdown(rep).find("**VOID W1"), std::string::npos);
 }

@@ -1,5 +1,6 @@
-// What a benchmark run produced: one row per (workload, size, threads, method, phase), the
-// memory of each method, and the notes (skipped baselines, VOID comparisons). Plain values.
+// What a benchmark run produced: one row per (workload, size, threads, method, phase), with its
+// median under load when there was one, the memory of each method, and the notes (skipped
+// baselines, VOID comparisons). Plain values.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +23,8 @@ struct row {
     double ms = 0;         ///< median
     double ns_per_particle = 0;
     std::optional<std::uint64_t> pairs;  ///< directed pairs found; none for build and update
+    std::optional<double> contended_ms;  ///< median under load (--contend); `ms` stays the quiet one
+    int load_pairs = 0;                  ///< quiet/contended pairs of runs behind the two medians
 };
 
 struct memory_row {
@@ -49,6 +52,8 @@ struct report {
     std::string machine;      ///< CPU model and hardware threads
     std::string build;        ///< compiler and build flavour
     std::string settings;     ///< precision, grid kind, index space, repetitions
+    std::string load;         ///< the load of --contend ("1 busy thread in this process"); empty: none
+    std::string autogroup;    ///< the kernel's autogroup scheduling under load: on, off, unknown
     bool rss_per_method = true;  ///< false: peak RSS is the process's peak so far
     std::vector<case_info> cases;
     std::vector<row> rows;

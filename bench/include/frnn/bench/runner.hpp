@@ -1,7 +1,7 @@
 // The benchmark runner behind `frnn bench`: for each workload and size it generates the points,
 // measures frnn's phases (build, count, list, build+list, update) at each thread count and, on
-// request, the baselines in the same process, then checks that every method found the same
-// number of pairs. Time: dominated by the workloads (up to 4 M points) and, for N <= 32,768,
+// request, the baselines in the same process (each run paired with one under load on
+// request), then checks that every method found the same number of pairs. Time: dominated by the workloads (up to 4 M points) and, for N <= 32,768,
 // brute force. Not thread-safe: it resets the process's peak-RSS counter.
 #pragma once
 #include <cstddef>
@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "frnn/bench/contention.hpp"
 #include "frnn/bench/results.hpp"
 #include "frnn/options.hpp"
 
@@ -34,6 +35,10 @@ struct config {
     grid_kind kind = grid_kind::automatic;
     double cell_factor = 0;          ///< cell edge as a fraction of r; 0: the grid's default
     index_space space = index_space::original;  ///< numbering of frnn's neighbor lists
+    /// Busy threads or child processes (1 to 64) during paired runs under load (see measure());
+    /// 0: no load, and no contended runs.
+    int contend = 0;
+    contention::mode contend_mode = contention::mode::threads;
     std::string command;             ///< recorded in the report
     std::ostream* progress = nullptr;  ///< one line per step, and the VOID lines
 };

@@ -1,12 +1,13 @@
 // Running a scene to completion: the time loop, output frames (.vtp, .pvd, optional PNG and
 // MP4), the surge-front record, atomic checkpoints every few frames and resuming from them,
-// progress on stderr, the per-stage timing table and summary.json.
+// progress on stderr, the per-stage timing table and summary.json, optionally under a load.
 //
 // Output directory layout: frames/frame_NNNNN.vtp, particles.pvd, summary.json,
 // checkpoint.bin, [front.csv], [png/frame_NNNNN.png], [particles.mp4].
 // Thread safety: one run per process directory; run() uses `threads` OpenMP threads.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,17 @@
 #include "frnn/sim/scene.hpp"
 
 namespace frnn::sim {
+
+/// An outside load switched on and off during a run, to compare the steps' speed with and
+/// without it (`frnn sim --contend`). Steps go in blocks of `block_steps`: the first block warms
+/// up (quiet, not counted), then quiet and busy blocks alternate; a last, incomplete block is not
+/// counted. The table and summary.json give per stage the medians over the quiet and over the
+/// busy blocks, or say that the run was too short for profiler::min_blocks of each kind.
+struct load_hook {
+    std::function<void(bool busy)> set;  ///< switches the load on (true) or off; empty: no load
+    std::uint64_t block_steps = 10;      ///< > 0
+    std::string label;                   ///< what the load is, for the table and summary.json
+};
 
 struct run_options {
     std::string out_dir;         ///< empty: a new folder named after the scene and the time
@@ -24,6 +36,7 @@ struct run_options {
     bool progress = true;        ///< progress on stderr
     bool print_table = true;     ///< the per-stage table on stdout at the end
     std::uint64_t stop_after = 0;  ///< stop (as if interrupted) after this many steps of this run
+    load_hook load;              ///< steps under an outside load in blocks; none by default
 };
 
 struct run_result {
@@ -36,6 +49,10 @@ struct run_result {
     std::vector<std::pair<double, double>> front;           ///< (T, Z) when the scene records it
     double front_deviation = -1;  ///< Martin & Moyce mean relative deviation over T in [1, 4]
     bool finished = false;
+    /// Under a load (run_options::load): the complete blocks of each kind and, when there are at
+    /// least profiler::min_blocks of each, the medians of their ms per step without output.
+    std::size_t quiet_blocks = 0, contended_blocks = 0;
+    double quiet_step_ms = 0, contended_step_ms = 0;
 };
 
 /// Runs a scene given as JSON text (origin names it in messages) with command-line overrides.
