@@ -35,7 +35,8 @@ struct grid_options {
     /// Optional bounds of the uniform grid (one value per axis, both or neither). Points
     /// outside are still handled exactly (they share the border cells). Default: bounding box.
     std::vector<double> domain_min, domain_max;
-    /// Worker threads for build and bulk queries; 0 means all hardware threads.
+    /// Threads for build and bulk queries, the calling one included; 0 means
+    /// frnn::default_thread_count() (FRNN_NUM_THREADS, else OMP_NUM_THREADS, else every CPU).
     int threads = 0;
 };
 

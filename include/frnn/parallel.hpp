@@ -4,7 +4,8 @@
 //
 // Why a pool of its own rather than OpenMP: a call returns as soon as its chunks are done. It
 // never waits for a worker that the operating system has not scheduled (such a worker simply
-// finds no chunk left), and idle threads spin for at most ~50 us before they sleep. On a machine
+// finds no chunk left), and a thread stops spinning as soon as the scheduler preempts it: idle
+// workers spin for up to 2 ms only while nobody else wants their core, then sleep. On a machine
 // shared with another busy process, OpenMP's fork-join barriers wait for every thread of the team
 // at the end of every parallel loop, and its spinning threads hold cores the others need.
 //

@@ -3,20 +3,20 @@
 // One pool per calling thread, its workers made on first use. A call publishes a job; the caller
 // and every awake worker claim its chunks from one counter, and the call is over when the last
 // chunk is finished, whoever ran it. A worker that wakes late finds no chunk and goes back to
-// waiting: nobody waits for it. Waiting threads spin briefly (the next step of a call usually
-// starts within microseconds), then sleep on a futex, giving the core back.
+// waiting: nobody waits for it. How threads wait is explained at spin_time below.
 #include <pthread.h>
 #include <sched.h>
 #ifdef __linux__
+#include <fcntl.h>
 #include <linux/futex.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 #endif
 
 #include <algorithm>
-#include <climits>
 #include <atomic>
 #include <chrono>
+#include <climits>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
@@ -35,12 +35,45 @@
 
 namespace frnn {
 namespace {
-
 using clock = std::chrono::steady_clock;
 
-// How long a waiting thread spins before it sleeps: longer than the gap between the steps of a
-// call, far shorter than a scheduler time slice that another process could use.
+// How a thread waits. First it spins for spin_time: a join usually ends, and the next step of a
+// call usually starts, within microseconds. Then a caller waiting for its last chunks sleeps on
+// a futex, so that a worker the scheduler has pushed aside can take its core. An idle worker
+// spins on for up to idle_spin_time while the machine has a core to spare (on virtual machines
+// waking a sleeping CPU costs tens of microseconds per step, and serial stretches of a few
+// hundred microseconds between steps are common), and sleeps as soon as it has none.
 constexpr auto spin_time = std::chrono::microseconds(50);
+constexpr auto idle_spin_time = std::chrono::milliseconds(2);
+
+// Whether no thread waits for a CPU: the kernel's count of runnable threads (the fourth field
+// of /proc/loadavg, "running/total", which counts the caller too) is at most the number of
+// CPUs this process may use. Where that cannot be read: false, so that nobody spins long.
+bool core_to_spare() {
+#ifdef __linux__
+    struct proc_file {
+        int fd = ::open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
+        ~proc_file() {
+            if (fd >= 0) ::close(fd);
+        }
+    };
+    thread_local const proc_file loadavg;
+    static const long cpus = [] {
+        cpu_set_t set;
+        return sched_getaffinity(0, sizeof set, &set) == 0 ? long(CPU_COUNT(&set)) : 1L;
+    }();
+    char text[128];
+    const ssize_t n = loadavg.fd >= 0 ? ::pread(loadavg.fd, text, sizeof text - 1, 0) : -1;
+    if (n <= 0) return false;
+    text[n] = '\0';
+    const char* field = text;
+    for (int spaces = 0; *field && spaces < 3; ++field) spaces += *field == ' ';
+    const long running = std::strtol(field, nullptr, 10);
+    return running > 0 && running <= cpus;
+#else
+    return false;
+#endif
+}
 
 inline void cpu_relax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -48,16 +81,18 @@ inline void cpu_relax() {
 #endif
 }
 
-// Spins until done() is true or spin_time has passed; returns done().
+// Spins until done() is true or `how_long` has passed; returns done(). With `while_spare`, it
+// also stops early when no core is to spare.
 template <class Done>
-bool spin_until(Done done) {
-    const auto end = clock::now() + spin_time;
-    for (;;) {
+bool spin_until(Done done, clock::duration how_long, bool while_spare = false) {
+    const auto end = clock::now() + how_long;
+    for (int round = 1;; ++round) {
         for (int i = 0; i < 64; ++i) {
             if (done()) return true;
             cpu_relax();
         }
         if (clock::now() >= end) return done();
+        if (while_spare && round % 32 == 0 && !core_to_spare()) return done();
     }
 }
 
@@ -68,9 +103,12 @@ class wake_word {
 public:
     std::uint32_t load() const { return value_.load(std::memory_order_acquire); }
 
-    /// Waits until the value is no longer `old`: spins, then sleeps.
-    void wait_while(std::uint32_t old) {
-        if (spin_until([&] { return load() != old; })) return;
+    /// Waits until the value is no longer `old`: spins, then (an idle worker) spins on while
+    /// nobody else wants the core, then sleeps.
+    void wait_while(std::uint32_t old, bool idle = false) {
+        const auto changed = [&] { return load() != old; };
+        if (spin_until(changed, spin_time)) return;
+        if (idle && core_to_spare() && spin_until(changed, idle_spin_time, true)) return;
         sleepers_.fetch_add(1);
         while (value_.load() == old) sleep_while(old);
         sleepers_.fetch_sub(1);
@@ -199,7 +237,7 @@ private:
 
     void work(int index, std::uint32_t seen) {
         for (;;) {
-            generation_.wait_while(seen);
+            generation_.wait_while(seen, true);
             seen = generation_.load();
             if (stopping_.load()) return;
             std::shared_ptr<job> j;

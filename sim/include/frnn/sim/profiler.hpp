@@ -5,7 +5,7 @@
 // per thread per step written as a Chrome trace (chrome://tracing, Perfetto).
 //
 // Thread safety: add() from the calling thread only; span() from inside parallel regions, each
-// thread writing only its own buffer (indexed by its OpenMP thread number).
+// thread writing only its own buffer (indexed by its worker number in frnn::parallel_chunks).
 #pragma once
 #include <algorithm>
 #include <array>

@@ -4,7 +4,7 @@
 //
 // Output directory layout: frames/frame_NNNNN.vtp, particles.pvd, summary.json,
 // checkpoint.bin, [front.csv], [png/frame_NNNNN.png], [particles.mp4].
-// Thread safety: one run per process directory; run() uses `threads` OpenMP threads.
+// Thread safety: one run per process directory; run() uses `threads` threads of frnn's pool.
 #pragma once
 #include <cstdint>
 #include <functional>

@@ -7,7 +7,7 @@
 // atomics), in the grid's deterministic neighbor order, so results are identical, bit for bit,
 // for any thread count. Cost per step: O(N * neighbors).
 //
-// Thread safety: one solver per thread of the caller; a solver uses `threads` OpenMP threads.
+// Thread safety: one solver per thread of the caller; a solver uses `threads` threads of frnn's pool.
 #pragma once
 #include <cstddef>
 #include <cstdint>
