@@ -68,7 +68,7 @@ grid_options make_options(const grid_args& args, int dim) {
     o.periodic = parse_periodic(args.periodic, dim);
     // The upper bound only stops typos from asking for a million threads.
     if (args.threads && (*args.threads < 1 || *args.threads > 1024))
-        throw py::value_error("threads must be in [1, 1024] (None uses all hardware threads); got " +
+        throw py::value_error("threads must be in [1, 1024] (None: FRNN_NUM_THREADS, else OMP_NUM_THREADS, else every CPU); got " +
                               std::to_string(*args.threads));
     o.threads = args.threads.value_or(0);
     return o;

@@ -40,8 +40,8 @@ periodic : float or sequence of float, optional
     Box length(s) L: the box is [0, L) on each axis and distances use the minimum image.
     Every length must be >= 2 * radius.
 threads : int, optional
-    Worker threads for build and queries (default: all hardware threads). Results are
-    identical for any thread count.
+    Threads for build and queries (default: FRNN_NUM_THREADS, else OMP_NUM_THREADS, else
+    every CPU the process may use). Results are identical for any thread count.
 
 Raises
 ------
