@@ -124,8 +124,7 @@ struct query_engine {
     }
 
     /// Neighbor counts of the grid's own points by sorted index (the point itself included
-    /// when `self`). The uniform grid visits each pair of cells once, in rounds of slabs of
-    /// cell layers (slab_schedule.hpp) so that concurrent sweeps never add to the same count.
+    /// when `self`), visiting each pair of cells once (slab_schedule.hpp on the uniform grid).
     void full_counts(std::uint32_t* counts, bool self) const {
         const std::size_t rows = g.size();
         const auto& kernels = sweep_for_cpu<T, D>();
@@ -165,13 +164,35 @@ struct query_engine {
             });
             return;
         }
+        // Uniform: slabs of cell layers swept at the same time, each keeping what it adds to
+        // the next slab's points in a spill of its own, added in after all sweeps.
+        const auto slabs = layer_slabs(std::size_t(dims[D - 1]), std::size_t(g.reach()), threads);
+        const std::size_t n = slabs.size();
         const std::size_t per_layer = D == 3 ? std::size_t(dims[0] * dims[1]) : std::size_t(dims[0]);
         const auto starts = g.cell_starts();
-        for (const auto& round : slab_rounds(std::size_t(dims[D - 1]), std::size_t(g.reach()), threads, g.periodic())) {
-            for_each_chunk(round.size(), round.size(), threads, [&](std::size_t c, std::size_t, std::size_t) {
-                kernels.count_pairs(g, job, starts[round[c].begin * per_layer], starts[round[c].end * per_layer]);
-            });
+        auto first_point = [&](std::size_t layer) { return std::size_t(starts[layer * per_layer]); };
+        // Slab k spills into the points [into[k], into[k] + size) at spill[at[k]...): the
+        // `reach` layers after it, or the last slab of a periodic box the first `reach` layers.
+        const bool wraps = g.periodic() && n > 1;
+        std::vector<std::size_t> into(n, 0), at(n + 1, 0);
+        for (std::size_t k = 0; k < n; ++k) {
+            const bool last = k + 1 == n;
+            const std::size_t spill_layers = last ? (wraps ? std::size_t(g.reach()) : 0) : std::size_t(g.reach());
+            const std::size_t from = last ? 0 : slabs[k].end;
+            into[k] = first_point(from);
+            at[k + 1] = at[k] + first_point(from + spill_layers) - into[k];
         }
+        buffer<std::uint32_t> spill(at[n]);
+        parallel_chunks(n, threads, [&](std::size_t k, int) {
+            std::fill(spill.data() + at[k], spill.data() + at[k + 1], 0u);
+            sweep_job<T> own = job;
+            if (k + 1 < n) own.spill_after = spill.data() + at[k];
+            else if (wraps) own.spill_before = spill.data() + at[k];
+            kernels.count_pairs(g, own, first_point(slabs[k].begin), first_point(slabs[k].end));
+        });
+        parallel_chunks(n, threads, [&](std::size_t k, int) {
+            for (std::size_t i = at[k]; i < at[k + 1]; ++i) counts[into[k] + i - at[k]] += spill[i];
+        });
     }
 
     /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.

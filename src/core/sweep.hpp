@@ -33,6 +33,11 @@ struct sweep_job {
     std::uint32_t* counts = nullptr;          ///< count sweep: row sizes by sorted index
     /// count_pairs: where the counts of the partner points go; null: into counts as well.
     std::uint32_t* partner_counts = nullptr;
+    /// count_pairs of [b, e): non-null, the counts of partners after e go to
+    /// spill_after[j - e] instead, and those before b (a periodic box's wrap) to
+    /// spill_before[j], so that sweeps of neighboring slabs may run at the same time.
+    std::uint32_t* spill_after = nullptr;
+    std::uint32_t* spill_before = nullptr;
     const std::uint64_t* offsets = nullptr;   ///< fill sweep: row starts by output row
     std::uint32_t* indices = nullptr;
     T* distances = nullptr;                   ///< null: not wanted
@@ -69,9 +74,8 @@ struct sweep_kernels {
     /// Adds to job.counts (zero before the first sweep) the neighbors of all points, meeting
     /// each pair once from the cells of [b, e) (grid::forward_runs): the points of [b, e)
     /// get their own count, the partner points found in later cells theirs in
-    /// job.partner_counts (or job.counts). On the uniform grid those lie up to `reach` cell
-    /// layers after e (in a periodic box, wrapping to the first layers), so sweeps of adjacent
-    /// slabs of layers must not share one array then.
+    /// job.partner_counts (or job.counts, or the spills). On the uniform grid those lie up to
+    /// `reach` cell layers after e (in a periodic box, wrapping to the first layers).
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);

@@ -445,6 +445,17 @@ struct tally_lanes {
 #endif
 };
 
+/// Where a sweep of [b, e) adds the counts of partner point j: own[j] inside the range,
+/// after[j - e] past it, before[j] before it. A run of candidates lies in one row of cells, so
+/// in one layer: wholly in one of the three when [b, e) holds whole layers.
+struct partner_sink {
+    std::uint32_t* own;
+    std::uint32_t* after = nullptr;
+    std::uint32_t* before = nullptr;
+    std::size_t b = 0, e = SIZE_MAX;
+    std::uint32_t* at(std::size_t j) const { return j >= e ? after + (j - e) : j < b ? before + j : own + j; }
+};
+
 /// For a sweep that meets each pair once: the points of one group against the runs of their
 /// forward half-stencil, read where the grid keeps them (no candidate block). The first run
 /// starts with the group's cells, and a point meets only the candidates after it there. Adds
@@ -463,9 +474,9 @@ struct pair_counter {
     T r2;
     const T* box;
 
-    /// Points [gb, ge) against runs; counts and partners are indexed by sorted point.
+    /// Points [gb, ge) against runs; counts are indexed by sorted point.
     void count(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns, bool wrap,
-               std::uint32_t* counts, std::uint32_t* partners) const {
+               std::uint32_t* counts, const partner_sink& partners) const {
         if (Periodic && wrap) sweep<true>(gb, ge, runs, nruns, counts, partners);
         else sweep<false>(gb, ge, runs, nruns, counts, partners);
     }
@@ -482,7 +493,7 @@ struct pair_counter {
     // counts and partners may be one array (the uniform grid's): no __restrict on them.
     template <bool Wrap>
     void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns, std::uint32_t* counts,
-               std::uint32_t* partners) const {
+               const partner_sink& partners) const {
         const T* x[D];
         for (int a = 0; a < D; ++a) x[a] = g.search_coords(a) + gb;
         for (std::size_t r = 0; r < nruns; ++r) {
@@ -491,16 +502,17 @@ struct pair_counter {
             v.len = runs[r].end - runs[r].begin;
             v.first = r == 0;
             v.pos0 = v.first ? gb - runs[r].begin : 0;
+            std::uint32_t* run_partners = partners.at(runs[r].begin);
             // Vectors wholly at or before the first point hold no candidate of the group.
             std::uint32_t k = v.first ? (v.pos0 + 1) / lanes * lanes : 0;
             for (; k < v.len; k += lanes) {
 #if FRNN_SWEEP_BYTES == 64
                 if (v.len - k <= lanes / 2) {  // the rest fits half a vector
-                    test_vector<Wrap, lanes / 2>(x, ge - gb, v, k, counts + gb, partners + runs[r].begin);
+                    test_vector<Wrap, lanes / 2>(x, ge - gb, v, k, counts + gb, run_partners);
                     break;
                 }
 #endif
-                test_vector<Wrap, lanes>(x, ge - gb, v, k, counts + gb, partners + runs[r].begin);
+                test_vector<Wrap, lanes>(x, ge - gb, v, k, counts + gb, run_partners);
             }
         }
     }
@@ -728,7 +740,9 @@ struct sweeper {
     /// Writes the counts of points in cells up to `reach` layers after [b, e): callers run
     /// sweeps of neighboring slabs one after the other.
     void count_pairs(std::size_t b, std::size_t e) {
-        std::uint32_t* partners = job.partner_counts ? job.partner_counts : job.counts;
+        partner_sink partners{job.partner_counts ? job.partner_counts : job.counts};
+        if (job.spill_after) partners.e = e, partners.after = job.spill_after;
+        if (job.spill_before) partners.b = b, partners.before = job.spill_before;
         const pair_counter<T, D, Periodic> counter{g, r2, box};
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             nruns = g.forward_runs(cell, runs, width);
