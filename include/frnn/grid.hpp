@@ -51,6 +51,11 @@ inline void append_run(candidate_run* out, std::size_t& n, std::uint32_t b, std:
     if (n > 0 && out[n - 1].end == b) out[n - 1].end = e;
     else out[n++] = {b, e};
 }
+/// A run of a periodic stencil: per axis, the multiple of the box length that the minimum
+/// image subtracts from d = candidate - point for every candidate of the run and every point
+/// of the stencil's cell (-1, 0 or 1; exact only where the grid says so, see
+/// grid::images_exact).
+using run_image = std::array<std::int8_t, 3>;
 /// Upper bound of runs around one point: (2k+1)^d with k <= 4.
 inline constexpr std::size_t max_runs = 729;
 /// Extra values after the last sorted coordinate, so vector loads never leave the array.
@@ -221,18 +226,24 @@ public:
     }
     /// The same around a cell given by its integer coordinates (as cell_of gives them). On the
     /// uniform grid with open boundaries, `width` > 1 takes the union of the stencils of that
-    /// many cells along x from `cell` on (which must lie in the grid).
+    /// many cells along x from `cell` on (which must lie in the grid). Periodic boxes: the
+    /// runs come in increasing order of sorted index, and with `images` each run's image
+    /// (runs of different images are not merged).
     std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
-                             std::int64_t width = 1) const;
+                             std::int64_t width = 1, detail::run_image* images = nullptr) const;
     /// The forward half of that stencil: the cells after `cell` in row-major order of cell
     /// coordinates (itself included, first), so that visiting these from every cell meets each
     /// pair of cells once (pairs inside the first run once by index order). `width` as for
     /// stencil_runs, uniform grid only. Periodic boxes: wrapped, and only for boxes of at least
     /// 2 reach + 1 cells per axis (smaller ones would meet some pairs of cells twice).
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
-                             std::int64_t width = 1) const;
+                             std::int64_t width = 1, detail::run_image* images = nullptr) const;
     /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).
     bool points_inside_box() const { return layout_.inside_box; }
+    /// Periodic box: whether the run images of stencil_runs and forward_runs are the minimum
+    /// image of every pair within r of grid points: all points inside the box, and at least
+    /// 2 reach + 3 cells per axis (then another image lies more than r away).
+    bool images_exact() const;
     /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
     /// x + nx * (y + ny * z). Uniform grid: cell c holds the sorted points
     /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table

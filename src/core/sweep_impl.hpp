@@ -16,6 +16,8 @@ constexpr std::uint32_t row_prefetch_distance = 8;
 /// Id of no point: padding lanes and "no id to skip". Grids hold at most 2^32 - 2 points.
 constexpr std::uint32_t no_id = 0xFFFFFFFFu;
 
+#include "core/sort_ids_impl.hpp"
+
 template <class T>
 void grow(std::vector<T>& v, std::size_t n) {
     if (v.size() < n) v.resize(n + n / 2);
@@ -59,6 +61,9 @@ template <class T, int D>
 struct candidate_block {
     std::vector<T> c[D];
     std::vector<std::uint32_t> id;
+    /// Periodic box, from gather_shifts: what the minimum image subtracts from candidate -
+    /// point per axis, image * L, at each position.
+    std::vector<T> shift[D];
     std::uint32_t size = 0;
     std::uint32_t padded = 0;
 
@@ -82,6 +87,24 @@ struct candidate_block {
         for (std::uint32_t j = m; j < padded; ++j)
             for (int a = 0; a < D; ++a) c[a][j] = T(INFINITY);
         if (with_ids) gather_ids(runs, nruns, ids);
+    }
+
+    /// The shifts of the runs' positions (after gather): image[a] * box[a] per axis.
+    void gather_shifts(const candidate_run* runs, const run_image* images, std::size_t nruns, const T* box) {
+        for (auto& axis : shift) grow(axis, padded + 2 * block_multiple);
+        for (int a = 0; a < D; ++a) {
+            T* __restrict dst = shift[a].data();
+            std::uint32_t m = 0;
+            for (std::size_t k = 0; k < nruns; ++k) {
+                // Whole vectors, like copy_padded: the next run or the padding overwrites the rest.
+                typedef T vec __attribute__((vector_size(FRNN_SWEEP_BYTES)));
+                const vec v = T(images[k][a]) * box[a] - vec{};
+                const std::uint32_t len = runs[k].end - runs[k].begin;
+                for (std::uint32_t j = 0; j < len; j += FRNN_SWEEP_BYTES / sizeof(T)) std::memcpy(dst + m + j, &v, sizeof v);
+                m += len;
+            }
+            std::fill(dst + m, dst + padded, T(0));
+        }
     }
 
     /// Only the ids and the size of the block that gather would make.
@@ -212,34 +235,46 @@ struct candidate_filter {
     std::uint32_t lo = 0;
 };
 
-/// One point against a candidate block; in a periodic box (box lengths `box`) by the minimum
-/// image, d -= box * nearbyint(d / box) per axis, as grid::distance_squared_sorted computes it,
-/// unless `wrap` is false: the caller knows that every such correction is zero.
-template <class T, int D, bool Periodic>
+/// How a periodic box's differences d = candidate - point are wrapped: not at all (the caller
+/// knows every correction is zero), by the candidates' shifts (image * L, grid::images_exact),
+/// or by the minimum image, d -= L * nearbyint(d / L) per axis, as
+/// grid::distance_squared_sorted computes it. The three give the same values where they apply.
+enum class wrap_mode { none, shift, min_image };
+
+/// One point against a candidate block, its differences wrapped as `Wrap` says.
+template <class T, int D, wrap_mode Wrap>
 struct point_kernel {
     using L = lanes_of<T>;
     using vec = typename L::vec;
     vec x[D];
     vec box[D];
     vec limit;
-    bool wrap;
 
-    point_kernel(const T* point, T r2, const T* box_lengths, bool wrap_images)
-        : limit(L::splat(r2)), wrap(Periodic && wrap_images) {
+    point_kernel(const T* point, T r2, const T* box_lengths) : limit(L::splat(r2)) {
         for (int a = 0; a < D; ++a) x[a] = L::splat(point[a]);
         for (int a = 0; a < D; ++a) box[a] = L::splat(box_lengths[a]);
     }
 
-    vec delta(const T* const* c, std::uint32_t k, int a) const {
-        vec d = L::load(c[a] + k) - x[a];
-        // Padding lanes (+infinity) become NaN here, which fails every comparison.
-        if constexpr (Periodic) {
-            if (wrap) d -= box[a] * L::round_even(d / box[a]);
+    /// A block's coordinate and shift columns.
+    struct columns {
+        const T* c[D];
+        const T* shift[D];
+        explicit columns(const candidate_block<T, D>& b) {
+            for (int a = 0; a < D; ++a) c[a] = b.c[a].data(), shift[a] = b.shift[a].data();
         }
+    };
+
+    // Inlined by force: GCC otherwise calls d2 from some of the kernels' loops (W8 half
+    // lists spent a sixth of their time in the calls).
+    [[gnu::always_inline]] vec delta(const columns& c, std::uint32_t k, int a) const {
+        vec d = L::load(c.c[a] + k) - x[a];
+        // Padding lanes (+infinity) stay infinite or become NaN, which fails every comparison.
+        if constexpr (Wrap == wrap_mode::shift) d -= L::load(c.shift[a] + k);
+        if constexpr (Wrap == wrap_mode::min_image) d -= box[a] * L::round_even(d / box[a]);
         return d;
     }
 
-    vec d2(const T* const* c, std::uint32_t k) const {
+    [[gnu::always_inline]] vec d2(const columns& c, std::uint32_t k) const {
         const vec dx = delta(c, k, 0);
         const vec dy = delta(c, k, 1);
         vec d = dx * dx;
@@ -253,8 +288,7 @@ struct point_kernel {
 
     /// Candidates within r, the point itself included.
     std::uint32_t count_all(const candidate_block<T, D>& b) const {
-        const T* c[D];
-        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const columns c(b);
         const std::uint32_t padded = b.padded;
         std::uint32_t hits = 0;
         for (std::uint32_t k = 0; k < padded; k += L::n) hits += std::uint32_t(__builtin_popcount(L::le_bits(d2(c, k), limit)));
@@ -266,8 +300,7 @@ struct point_kernel {
     /// of the block, one word per vector, to bits (zero for vectors wholly before f.from).
     template <bool ById, class Word>
     std::uint32_t keep_hits(const candidate_block<T, D>& b, const candidate_filter& f, Word* __restrict bits) const {
-        const T* c[D];
-        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const columns c(b);
         const std::uint32_t padded = b.padded;
         const std::uint32_t first = f.from / L::n * L::n;
         for (std::uint32_t k = 0; k < first; k += L::n) bits[k / L::n] = 0;
@@ -308,8 +341,7 @@ struct point_kernel {
     template <bool WithD2, bool CountOnly = false, bool ById = false>
     std::uint32_t emit(const candidate_block<T, D>& b, const candidate_filter& f, std::uint32_t* __restrict out,
                        T* __restrict out_d2) const {
-        const T* c[D];
-        for (int a = 0; a < D; ++a) c[a] = b.c[a].data();
+        const columns c(b);
         const std::uint32_t* __restrict block_ids = b.id.data();
         const std::uint32_t padded = b.padded;
         const std::uint32_t skip_vector = f.skip == no_id ? no_id : f.skip / L::n * L::n;
@@ -474,31 +506,36 @@ struct pair_counter {
     T r2;
     const T* box;
 
-    /// Points [gb, ge) against runs; counts are indexed by sorted point.
-    void count(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns, bool wrap,
-               std::uint32_t* counts, const partner_sink& partners) const {
-        if (Periodic && wrap) sweep<true>(gb, ge, runs, nruns, counts, partners);
-        else sweep<false>(gb, ge, runs, nruns, counts, partners);
+    /// Points [gb, ge) against runs; counts are indexed by sorted point. With `wrap`, by the
+    /// runs' images if given (grid::images_exact), else by the minimum image.
+    void count(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images, std::size_t nruns,
+               bool wrap, std::uint32_t* counts, const partner_sink& partners) const {
+        if (Periodic && wrap && images) sweep<wrap_mode::shift>(gb, ge, runs, images, nruns, counts, partners);
+        else if (Periodic && wrap) sweep<wrap_mode::min_image>(gb, ge, runs, images, nruns, counts, partners);
+        else sweep<wrap_mode::none>(gb, ge, runs, images, nruns, counts, partners);
     }
 
   private:
     /// Where one run's candidates are and which of them the group's points meet.
     struct run_view {
         const T* c[D];         // the run's coordinates
+        T shift[D];            // wrap_mode::shift: image * L per axis
         std::uint32_t len;     // its length
         std::uint32_t pos0;    // the first run: the first point's position in it
         bool first;            // whether this is the first run
     };
 
     // counts and partners may be one array (the uniform grid's): no __restrict on them.
-    template <bool Wrap>
-    void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, std::size_t nruns, std::uint32_t* counts,
-               const partner_sink& partners) const {
+    template <wrap_mode Wrap>
+    void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images, std::size_t nruns,
+               std::uint32_t* counts, const partner_sink& partners) const {
         const T* x[D];
         for (int a = 0; a < D; ++a) x[a] = g.search_coords(a) + gb;
         for (std::size_t r = 0; r < nruns; ++r) {
             run_view v;
             for (int a = 0; a < D; ++a) v.c[a] = g.search_coords(a) + runs[r].begin;
+            if constexpr (Wrap == wrap_mode::shift)
+                for (int a = 0; a < D; ++a) v.shift[a] = T(images[r][a]) * box[a];
             v.len = runs[r].end - runs[r].begin;
             v.first = r == 0;
             v.pos0 = v.first ? gb - runs[r].begin : 0;
@@ -518,7 +555,7 @@ struct pair_counter {
     }
 
     /// The group's points (coordinates x) against the candidates at run positions [k, k + Lanes).
-    template <bool Wrap, int Lanes>
+    template <wrap_mode Wrap, int Lanes>
     void test_vector(const T* const* x, std::uint32_t points, const run_view& v, std::uint32_t k, std::uint32_t* counts,
                      std::uint32_t* partners) const {
         using V = tally_lanes<T, Lanes>;
@@ -528,12 +565,15 @@ struct pair_counter {
         // In the first run, points at positions k + Lanes - 1 or later have no candidate here.
         const std::uint32_t last = k + Lanes - 1;
         const std::uint32_t active = v.first ? std::min(points, last > v.pos0 ? last - v.pos0 : 0u) : points;
-        vec c[D], box_v[D];
+        vec c[D], box_v[D], shift_v[D];
         for (int a = 0; a < D; ++a) c[a] = V::load(v.c[a] + k), box_v[a] = V::splat(box[a]);
+        if constexpr (Wrap == wrap_mode::shift)
+            for (int a = 0; a < D; ++a) shift_v[a] = V::splat(v.shift[a]);
         const vec limit = V::splat(r2);
         auto delta = [&](int a, std::uint32_t j) {
             vec d = c[a] - V::splat(x[a][j]);
-            if constexpr (Wrap) d -= box_v[a] * V::round_even(d / box_v[a]);
+            if constexpr (Wrap == wrap_mode::shift) d -= shift_v[a];
+            if constexpr (Wrap == wrap_mode::min_image) d -= box_v[a] * V::round_even(d / box_v[a]);
             return d;
         };
         typename V::tally partner{};
@@ -608,20 +648,25 @@ std::int64_t group_width_for(const grid<T, D>& g) {
 /// The sweeps over the cells of a grid; `Periodic` for a periodic box.
 template <class T, int D, bool Periodic>
 struct sweeper {
-    using kernel = point_kernel<T, D, Periodic>;
+    using kernel = point_kernel<T, D, wrap_mode::none>;
     const grid<T, D>& g;
     const sweep_job<T>& job;
     T box[D] = {};
     candidate_block<T, D> block;
     candidate_run runs[max_runs];
+    run_image images[max_runs];
     std::size_t nruns = 0;
     T r2;
     std::int64_t group_width;
+    /// Periodic box: grid points wrap by their runs' images, without a division.
+    bool shifts = false;
 
     sweeper(const grid<T, D>& gr, const sweep_job<T>& j)
         : g(gr), job(j), r2(gr.search_radius() * gr.search_radius()), group_width(group_width_for(gr)) {
-        if constexpr (Periodic)
+        if constexpr (Periodic) {
             for (int a = 0; a < D; ++a) box[a] = gr.search_box(a);
+            shifts = !job.queries && gr.images_exact();
+        }
     }
 
     std::array<T, D> point(std::uint32_t s) const {
@@ -664,6 +709,18 @@ struct sweeper {
         return false;
     }
 
+    /// f(kernel) with the kernel of point x, wrapping as wraps_at(group_wraps, x) says.
+    template <class F>
+    auto with_kernel(const std::array<T, D>& x, bool group_wraps, F&& f) const {
+        if constexpr (Periodic) {
+            if (wraps_at(group_wraps, x)) {
+                if (shifts) return f(point_kernel<T, D, wrap_mode::shift>(x.data(), r2, box));
+                return f(point_kernel<T, D, wrap_mode::min_image>(x.data(), r2, box));
+            }
+        }
+        return f(point_kernel<T, D, wrap_mode::none>(x.data(), r2, box));
+    }
+
     /// Periodic box: whether the minimum image may differ from the plain difference for a
     /// point of `cell` and a candidate of its stencil. It cannot when every point lies inside
     /// the box, the stencil does not wrap, and the box spans at least 2k + 3 cells: then
@@ -678,9 +735,12 @@ struct sweeper {
         return false;
     }
 
-    void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width) {
-        nruns = g.stencil_runs(cell, runs, width);
-        block.gather(g, runs, nruns, job.ids);
+    /// The cell's stencil into the block (without ids unless with_ids), with its shifts
+    /// where grid points wrap by them.
+    void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width, bool with_ids = true) {
+        nruns = g.stencil_runs(cell, runs, width, Periodic ? images : nullptr);
+        block.gather(g, runs, nruns, job.ids, with_ids);
+        if (shifts && wraps(cell)) block.gather_shifts(runs, images, nruns, box);
     }
 
     /// The block position of sorted point s, which lies in one of the gathered runs.
@@ -693,9 +753,9 @@ struct sweeper {
         return no_id;
     }
 
-    /// Whether block positions follow ids: the runs of an open uniform grid come in slot
-    /// order, and without caller ids a point's id is its sorted index.
-    bool positions_in_id_order() const { return !job.ids && !Periodic && g.kind() == grid_kind::uniform; }
+    /// Whether block positions follow ids: the runs of a uniform grid come in slot order (a
+    /// periodic one's too), and without caller ids a point's id is its sorted index.
+    bool positions_in_id_order() const { return !job.ids && g.kind() == grid_kind::uniform; }
     /// Whether half rows must compare ids (the kernels' ById).
     bool filter_by_id() const { return job.half && !job.queries && !positions_in_id_order(); }
 
@@ -720,16 +780,13 @@ struct sweeper {
             const std::uint32_t first = job.queries ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
-                std::uint32_t c;
-                if (job.half) {
+                std::uint32_t c = with_kernel(x, wrap, [&](const auto& kern) {
+                    if (!job.half)  // the point itself is always a candidate at distance 0
+                        return kern.count_all(block) - (job.self ? 0 : 1);
                     const candidate_filter f = filter(s, first + (s - gb));
-                    c = filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
-                                       : kern.template emit<false, true>(block, f, nullptr, nullptr);
-                } else {
-                    // The point itself is always a candidate at distance 0.
-                    c = kern.count_all(block) - (job.self ? 0 : 1);
-                }
+                    return filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
+                                          : kern.template emit<false, true>(block, f, nullptr, nullptr);
+                });
                 if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
                 job.counts[job.queries ? id(s) : s] = c;
             }
@@ -745,8 +802,8 @@ struct sweeper {
         if (job.spill_before) partners.b = b, partners.before = job.spill_before;
         const pair_counter<T, D, Periodic> counter{g, r2, box};
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            nruns = g.forward_runs(cell, runs, width);
-            counter.count(gb, ge, runs, nruns, wraps(cell), job.counts, partners);
+            nruns = g.forward_runs(cell, runs, width, shifts ? images : nullptr);
+            counter.count(gb, ge, runs, shifts ? images : nullptr, nruns, wraps(cell), job.counts, partners);
         });
     }
 
@@ -788,7 +845,6 @@ struct sweeper {
             const std::uint32_t first = job.queries ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
-                const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 const candidate_filter f = filter(s, first + (s - gb));
                 const std::uint64_t dst = row_start(starts, s, b, e);
                 std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
@@ -797,16 +853,16 @@ struct sweeper {
                     grow(row_d2, block.padded);
                     d2 = row_d2.data();
                 }
-                std::uint32_t n;
-                if (filter_by_id())
-                    n = d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
-                           : kern.template emit<false, false, true>(block, f, ids, nullptr);
-                else
-                    n = d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
+                std::uint32_t n = with_kernel(x, wrap, [&](const auto& kern) {
+                    if (filter_by_id())
+                        return d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
+                                  : kern.template emit<false, false, true>(block, f, ids, nullptr);
+                    return d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
+                });
                 if (job.k_nearest > 0 || job.order == row_order::distance ||
                     (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
                     if (d2) n = sort_row(n, ids, d2, pairs);
-                    else std::sort(ids, ids + n);
+                    else sort_ids(ids, n);
                 }
                 if (job.k_nearest > 0 && n > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
                 if (job.distances) {
@@ -837,17 +893,16 @@ struct sweeper {
         auto* bits = reinterpret_cast<hit_word*>(job.hits);
         const bool by_id = filter_by_id();
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            nruns = g.stencil_runs(cell, runs, width);
-            block.gather(g, runs, nruns, job.ids, by_id);
+            gather(cell, width, by_id);
             const bool wrap = wraps(cell);
             const std::uint32_t first = job.queries ? 0 : block_position(gb);
             const std::uint32_t vectors = block.padded / kernel::L::n;
             for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
                 const auto x = point(s);
-                const kernel kern(x.data(), r2, box, wraps_at(wrap, x));
                 const candidate_filter f = filter(s, first + (s - gb));
-                job.counts[job.queries ? id(s) : s] =
-                    by_id ? kern.template keep_hits<true>(block, f, bits) : kern.template keep_hits<false>(block, f, bits);
+                job.counts[job.queries ? id(s) : s] = with_kernel(x, wrap, [&](const auto& kern) {
+                    return by_id ? kern.template keep_hits<true>(block, f, bits) : kern.template keep_hits<false>(block, f, bits);
+                });
             }
         });
     }
@@ -875,7 +930,7 @@ struct sweeper {
                 for (; k + 2 * lanes <= padded; k += 2 * lanes)
                     n += store_hit_pair<lanes>(out + n, bits[k / lanes], bits[k / lanes + 1], ids + k);
                 if (k < padded) n += store_hits<lanes>(out + n, bits[k / lanes], ids + k);
-                if (job.order == row_order::index && !std::is_sorted(out, out + n)) std::sort(out, out + n);
+                if (job.order == row_order::index && !std::is_sorted(out, out + n)) sort_ids(out, n);
             }
             next = bits;
         });
