@@ -125,11 +125,15 @@ struct query_engine {
 
     /// Neighbor counts of the grid's own points by sorted index (the point itself included
     /// when `self`), visiting each pair of cells once (slab_schedule.hpp on the uniform grid).
-    void full_counts(std::uint32_t* counts, bool self) const {
+    /// With `half`, the sizes of half rows: each pair counts for the point of the smaller id,
+    /// ids[sorted point] or, without ids, the sorted index.
+    void full_counts(std::uint32_t* counts, bool self, bool half = false, const std::uint32_t* ids = nullptr) const {
         const std::size_t rows = g.size();
         const auto& kernels = sweep_for_cpu<T, D>();
         sweep_job<T> job;
         job.self = self;
+        job.half = half;
+        job.ids = ids;
         job.counts = counts;
         const auto dims = g.cells_per_axis();
         if (g.periodic()) {
@@ -210,10 +214,14 @@ struct query_engine {
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
         const auto kept = keeps_hits(o, k_nearest) ? plan_kept_hits(job, rows, parts) : nullptr;
-        if (kept || o.half) {
+        // Half rows count each pair once, for the row that holds it, unless a point's sweep
+        // skips the candidates before it anyway: an open uniform grid in its own numbering
+        // (W8 half lists in the caller's numbering, 32,000 atoms, 1 thread: 42 -> 23 ms).
+        const bool half_by_point = o.half && (k_nearest > 0 || (!job.ids && !g.periodic() && g.kind() == grid_kind::uniform));
+        if (kept || half_by_point) {
             count_rows(job, rows, parts, kept.get());
         } else {
-            full_counts(sizes.data(), o.self);
+            full_counts(sizes.data(), o.self, o.half, job.ids);
             if (k_nearest > 0) {
                 for (auto& c : sizes) c = std::uint32_t(std::min<std::size_t>(c, k_nearest));
             }

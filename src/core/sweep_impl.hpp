@@ -505,37 +505,56 @@ struct pair_counter {
     const grid<T, D>& g;
     T r2;
     const T* box;
+    /// Half rows: each pair is counted once, for the point of the smaller id, the caller's
+    /// (ids[sorted point]) or, without ids, the sorted index.
+    bool half = false;
+    const std::uint32_t* ids = nullptr;
 
     /// Points [gb, ge) against runs; counts are indexed by sorted point. With `wrap`, by the
     /// runs' images if given (grid::images_exact), else by the minimum image.
     void count(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images, std::size_t nruns,
                bool wrap, std::uint32_t* counts, const partner_sink& partners) const {
-        if (Periodic && wrap && images) sweep<wrap_mode::shift>(gb, ge, runs, images, nruns, counts, partners);
-        else if (Periodic && wrap) sweep<wrap_mode::min_image>(gb, ge, runs, images, nruns, counts, partners);
-        else sweep<wrap_mode::none>(gb, ge, runs, images, nruns, counts, partners);
+        if (half) return count_as<true>(gb, ge, runs, images, nruns, wrap, counts, partners);
+        count_as<false>(gb, ge, runs, images, nruns, wrap, counts, partners);
     }
 
   private:
+    template <bool Half>
+    void count_as(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images, std::size_t nruns,
+                  bool wrap, std::uint32_t* counts, const partner_sink& partners) const {
+        if (Periodic && wrap && images) sweep<wrap_mode::shift, Half>(gb, ge, runs, images, nruns, counts, partners);
+        else if (Periodic && wrap) sweep<wrap_mode::min_image, Half>(gb, ge, runs, images, nruns, counts, partners);
+        else sweep<wrap_mode::none, Half>(gb, ge, runs, images, nruns, counts, partners);
+    }
+
     /// Where one run's candidates are and which of them the group's points meet.
     struct run_view {
         const T* c[D];         // the run's coordinates
         T shift[D];            // wrap_mode::shift: image * L per axis
+        std::uint32_t begin;   // its first sorted point
         std::uint32_t len;     // its length
         std::uint32_t pos0;    // the first run: the first point's position in it
         bool first;            // whether this is the first run
     };
 
     // counts and partners may be one array (the uniform grid's): no __restrict on them.
-    template <wrap_mode Wrap>
+    template <wrap_mode Wrap, bool Half>
     void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images, std::size_t nruns,
                std::uint32_t* counts, const partner_sink& partners) const {
         const T* x[D];
         for (int a = 0; a < D; ++a) x[a] = g.search_coords(a) + gb;
+        // Half: the ids of the group's points.
+        std::uint32_t point_ids[Half ? 64 : 1];
+        if constexpr (Half) {
+            if (ge - gb > 64) return sweep_in_parts<Wrap>(gb, ge, runs, images, nruns, counts, partners);
+            for (std::uint32_t j = 0; j < ge - gb; ++j) point_ids[j] = ids ? ids[gb + j] : gb + j;
+        }
         for (std::size_t r = 0; r < nruns; ++r) {
             run_view v;
             for (int a = 0; a < D; ++a) v.c[a] = g.search_coords(a) + runs[r].begin;
             if constexpr (Wrap == wrap_mode::shift)
                 for (int a = 0; a < D; ++a) v.shift[a] = T(images[r][a]) * box[a];
+            v.begin = runs[r].begin;
             v.len = runs[r].end - runs[r].begin;
             v.first = r == 0;
             v.pos0 = v.first ? gb - runs[r].begin : 0;
@@ -545,19 +564,42 @@ struct pair_counter {
             for (; k < v.len; k += lanes) {
 #if FRNN_SWEEP_BYTES == 64
                 if (v.len - k <= lanes / 2) {  // the rest fits half a vector
-                    test_vector<Wrap, lanes / 2>(x, ge - gb, v, k, counts + gb, run_partners);
+                    test_vector<Wrap, Half, lanes / 2>(x, point_ids, ge - gb, v, k, counts + gb, run_partners);
                     break;
                 }
 #endif
-                test_vector<Wrap, lanes>(x, ge - gb, v, k, counts + gb, run_partners);
+                test_vector<Wrap, Half, lanes>(x, point_ids, ge - gb, v, k, counts + gb, run_partners);
             }
         }
     }
 
+    /// Half counts of a group of more than 64 points (cells that dense are rare): the
+    /// group's points one by one, each against the runs from its own position on.
+    template <wrap_mode Wrap>
+    void sweep_in_parts(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images,
+                        std::size_t nruns, std::uint32_t* counts, const partner_sink& partners) const {
+        for (std::uint32_t s = gb; s < ge; ++s) sweep<Wrap, true>(s, s + 1, runs, images, nruns, counts, partners);
+    }
+
+    /// Lanes whose id exceeds `me`.
+    template <int Lanes>
+    static std::uint32_t greater(const std::uint32_t* lane_ids, std::uint32_t me) {
+#if FRNN_SWEEP_BYTES == 64
+        if constexpr (Lanes == 16) return _mm512_cmpgt_epu32_mask(_mm512_loadu_si512(lane_ids), _mm512_set1_epi32(int(me)));
+        if constexpr (Lanes == 8)
+            return _mm256_cmpgt_epu32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(lane_ids)), _mm256_set1_epi32(int(me)));
+        if constexpr (Lanes == 4)
+            return _mm_cmpgt_epu32_mask(_mm_loadu_si128(reinterpret_cast<const __m128i*>(lane_ids)), _mm_set1_epi32(int(me)));
+#endif
+        std::uint32_t m = 0;
+        for (int l = 0; l < Lanes; ++l) m |= std::uint32_t(lane_ids[l] > me) << l;
+        return m;
+    }
+
     /// The group's points (coordinates x) against the candidates at run positions [k, k + Lanes).
-    template <wrap_mode Wrap, int Lanes>
-    void test_vector(const T* const* x, std::uint32_t points, const run_view& v, std::uint32_t k, std::uint32_t* counts,
-                     std::uint32_t* partners) const {
+    template <wrap_mode Wrap, bool Half, int Lanes>
+    void test_vector(const T* const* x, const std::uint32_t* point_ids, std::uint32_t points, const run_view& v,
+                     std::uint32_t k, std::uint32_t* counts, std::uint32_t* partners) const {
         using V = tally_lanes<T, Lanes>;
         using vec = typename V::vec;
         // Lanes past the run hold other points (or the arrays' padding): never hits.
@@ -576,6 +618,12 @@ struct pair_counter {
             if constexpr (Wrap == wrap_mode::min_image) d -= box_v[a] * V::round_even(d / box_v[a]);
             return d;
         };
+        // Half: the ids of the vector's candidates (0 past the run, where no lane hits).
+        std::uint32_t cand_ids[Half ? Lanes : 1] = {};
+        if constexpr (Half) {
+            const std::uint32_t n = std::min<std::uint32_t>(std::uint32_t(Lanes), v.len - k);
+            for (std::uint32_t l = 0; l < n; ++l) cand_ids[l] = ids ? ids[v.begin + k + l] : v.begin + k + l;
+        }
         typename V::tally partner{};
         for (std::uint32_t j = 0; j < active; ++j) {
             const vec dx = delta(0, j);
@@ -589,8 +637,14 @@ struct pair_counter {
             const std::uint32_t p = v.pos0 + j;
             const std::uint32_t keep = v.first && p + 1 > k ? in_run & (~0u << (p + 1 - k)) : in_run;
             const std::uint32_t m = V::le(keep, d, limit);
-            partner = V::add_ones(partner, m);
-            counts[j] += std::uint32_t(__builtin_popcount(m));
+            if constexpr (Half) {
+                const std::uint32_t mine = m & greater<Lanes>(cand_ids, point_ids[j]);
+                partner = V::add_ones(partner, m & ~mine);
+                counts[j] += std::uint32_t(__builtin_popcount(mine));
+            } else {
+                partner = V::add_ones(partner, m);
+                counts[j] += std::uint32_t(__builtin_popcount(m));
+            }
         }
         // Only the run's lanes are written: the points past it may be another thread's.
         V::add_to(partners + k, in_run, partner);
@@ -800,7 +854,7 @@ struct sweeper {
         partner_sink partners{job.partner_counts ? job.partner_counts : job.counts};
         if (job.spill_after) partners.e = e, partners.after = job.spill_after;
         if (job.spill_before) partners.b = b, partners.before = job.spill_before;
-        const pair_counter<T, D, Periodic> counter{g, r2, box};
+        const pair_counter<T, D, Periodic> counter{g, r2, box, job.half, job.ids};
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             nruns = g.forward_runs(cell, runs, width, shifts ? images : nullptr);
             counter.count(gb, ge, runs, shifts ? images : nullptr, nruns, wraps(cell), job.counts, partners);

@@ -150,6 +150,29 @@ TEST(OraclePeriodic, QueriesImagesAwayFromPointsInside) {
     }
 }
 
+// Dense cells at the box's corner, wrapping on every axis: more than 64 points per cell (the
+// half-row pair count then sweeps them point by point), in a box that takes the runs' images.
+TEST(OraclePeriodic, DenseCellsAcrossTheCorner) {
+    const std::vector<double> box = {7, 8, 9};
+    auto pts = in_box<double, 3>(100, box, 97);
+    const auto corner = uniform_points<double, 3>(700, -0.2, 0.2, 98);  // about 90 per corner cell
+    for (std::size_t i = 0; i < corner.size(); ++i) {
+        const double len = box[i % 3];
+        const double v = corner[i] < 0 ? corner[i] + len : corner[i];
+        pts.push_back(v < len ? v : 0.0);
+    }
+    const auto queries = query_points<double, 3>(pts, 1.0, 30, box, 99);
+    for (int threads : {1, 2}) {
+        grid_options opt;
+        opt.periodic = box;
+        opt.threads = threads;
+        grid<double, 3> g(pts, 1.0, opt);
+        ASSERT_TRUE(g.images_exact());
+        SCOPED_TRACE("threads " + std::to_string(threads));
+        check_grid<double, 3>(g, pts, 1.0, box, queries, depth::basic);
+    }
+}
+
 // Every point's number of neighbors on a periodic lattice is the same (translation invariance):
 // a physics check independent of the oracle.
 TEST(OraclePeriodic, LatticeCountsAreUniform) {
