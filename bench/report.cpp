@@ -54,7 +54,7 @@ std::vector<int> frnn_threads(const report& rep, const case_info& c) {
 
 void ratio_table(std::string& md, const report& rep, const case_info& c) {
     const bool any_baseline = std::any_of(rep.rows.begin(), rep.rows.end(), [&](const row& r) {
-        return r.workload == c.workload && r.n == c.n && r.method != "frnn";
+        return r.workload == c.workload && r.n == c.n && r.method != "frnn" && r.method != "lammps";
     });
     if (!any_baseline) return;
     md += "\nfrnn's speed-up over each baseline (baseline time / frnn time; nanoflann at the same "
@@ -70,6 +70,23 @@ void ratio_table(std::string& md, const report& rep, const case_info& c) {
                   ratio(f, find_row(rep.rows, c.workload, c.n, 1, "cell-list", phase)) + " | " +
                   ratio(f, find_row(rep.rows, c.workload, c.n, 1, "brute", phase)) + " |\n";
         }
+}
+
+// The md workload: LAMMPS's neighbor build (half lists) against frnn's build with sorted half
+// rows, at as many MPI ranks as frnn threads.
+void lammps_table(std::string& md, const report& rep, const case_info& c) {
+    std::string lines;
+    for (int t : frnn_threads(rep, c)) {
+        const row* l = find_row(rep.rows, c.workload, c.n, t, "lammps", "build+half");
+        const row* f = find_row(rep.rows, c.workload, c.n, t, "frnn", "build+half by-index");
+        if (l && f)
+            lines += "| " + std::to_string(t) + " | " + readable(l->ms) + " | " + readable(f->ms) + " | " +
+                     ratio(f, l) + " |\n";
+    }
+    if (lines.empty()) return;
+    md += "\nLAMMPS's neighbor build (half lists, `neighbor 0.3 bin`, one MPI rank per frnn thread) "
+          "against frnn's build + half lists with rows sorted by index:\n\n";
+    md += "| threads (ranks) | LAMMPS ms | frnn ms | LAMMPS / frnn |\n|---:|---:|---:|---:|\n" + lines;
 }
 
 // Each row's quiet and contended medians side by side, under the line that names the load.
@@ -156,6 +173,7 @@ std::string to_markdown(const report& rep) {
                   (r->pairs ? grouped(*r->pairs) : std::string("-")) + " |\n";
         load_table(md, rep, c);
         ratio_table(md, rep, c);
+        lammps_table(md, rep, c);
         scaling_table(md, rep, c);
         memory_table(md, rep, c);
         if (!c.notes.empty()) {

@@ -8,6 +8,7 @@
 
 #include "frnn/bench/brute_baseline.hpp"
 #include "frnn/bench/cell_list.hpp"
+#include "frnn/bench/lammps_baseline.hpp"
 #include "frnn/bench/measure.hpp"
 #include "frnn/bench/nanoflann_baseline.hpp"
 #include "frnn/bench/workloads.hpp"
@@ -28,7 +29,8 @@ template <class T, int D>
 class case_runner {
 public:
     case_runner(const config& cfg, const workload& w, std::size_t size, report& rep, contention* load)
-        : cfg_(cfg), rep_(rep), load_(load), coords_(generate<T>(w, size)), radius_(T(w.radius)) {
+        : cfg_(cfg), rep_(rep), load_(load), coords_(generate<T>(w, size)), radius_(T(w.radius)),
+          md_(w.md), box_(periodic_box(w, size)) {
         info_.workload = w.id;
         info_.name = w.name;
         info_.side = lattice_side(w, size);
@@ -39,7 +41,10 @@ public:
 
     void run() {
         for (int t : cfg_.threads) run_frnn(t);
-        if (cfg_.baselines) {
+        if (md_) {
+            info_.notes.push_back("periodic cube of side " + std::to_string(box_) + ", double coordinates; pairs of half lists are counted twice, like the others");
+            if (cfg_.baselines) run_lammps();
+        } else if (cfg_.baselines) {
             for (int t : cfg_.threads) run_nanoflann(t);
             run_cell_list();
             run_brute();
@@ -125,12 +130,14 @@ private:
         go.kind = cfg_.kind;
         go.cell_size = cfg_.cell_factor * double(radius_);
         go.threads = threads;
+        if (md_) go.periodic.assign(D, box_);
         list_options lo;
         lo.space = cfg_.space;
         run_method(
             threads, "frnn", [&] { return grid<T, D>(points(), radius_, go); },
             [&](const grid<T, D>& g) { return g.count_neighbors(lo.space); },
             [&](const grid<T, D>& g) { return g.neighbor_lists(lo); });
+        if (md_) run_half_lists(threads, go);
 
         // The next step: every point moved a little; the moved copy is made outside the timing.
         const std::vector<T> moved = moved_copy<T>(points());
@@ -141,6 +148,58 @@ private:
                 g.rebuild(moved);
                 return sample{sw.stop(), {}};
             }, load_));
+    }
+
+    // The md phases: half lists in the caller's numbering (rows unsorted, then sorted by index,
+    // as Python's neighbors(half=True) gives them) and in the grid's, and a build with the
+    // sorted ones, which is what LAMMPS's neighbor build is timed against.
+    void run_half_lists(int threads, const grid_options& go) {
+        const auto half = [](index_space space, row_order order) {
+            list_options o;
+            o.half = true;
+            o.space = space;
+            o.order = order;
+            return o;
+        };
+        const grid<T, D> g(points(), radius_, go);
+        const auto lists = [&](const std::string& phase, const list_options& o) {
+            add(threads, "frnn", phase, measure(cfg_.repeat, [&] {
+                    stopwatch sw;
+                    sw.start();
+                    const auto l = g.neighbor_lists(o);
+                    return sample{sw.stop(), 2 * l.size()};
+                }, load_));
+        };
+        lists("half", half(index_space::original, row_order::none));
+        lists("half sorted-space", half(index_space::sorted, row_order::none));
+        lists("half by-index", half(index_space::original, row_order::index));
+        const list_options sorted_rows = half(index_space::original, row_order::index);
+        add(threads, "frnn", "build+half by-index", measure(cfg_.repeat, [&] {
+                stopwatch sw;
+                sw.start();
+                const grid<T, D> built(points(), radius_, go);
+                const auto l = built.neighbor_lists(sorted_rows);
+                return sample{sw.stop(), 2 * l.size()};
+            }, load_));
+    }
+
+    // LAMMPS's neighbor build (half lists, newton on) on the same atoms: one rank per thread.
+    void run_lammps() {
+        if (load_) {
+            info_.notes.push_back("LAMMPS skipped under load: it runs as separate processes");
+            return;
+        }
+        const std::vector<double> xyz(coords_.begin(), coords_.end());
+        for (int t : cfg_.threads) {
+            if (const std::string missing = lammps_missing(t); !missing.empty()) {
+                info_.notes.push_back(missing);
+                continue;
+            }
+            step("LAMMPS (" + std::to_string(t) + (t == 1 ? " rank)" : " MPI ranks)"), t);
+            const lammps_timing l = time_lammps(xyz, box_, double(radius_), t, cfg_.repeat);
+            rep_.rows.push_back({info_.workload, n(), t, "lammps", "build+half", l.ms_per_build,
+                                 l.ms_per_build * 1e6 / double(n()), 2 * l.half_pairs, {}, 0});
+        }
     }
 
     void run_nanoflann(int threads) {
@@ -195,6 +254,8 @@ private:
     contention* load_;  // null: no runs under load
     std::vector<T> coords_;
     T radius_;
+    bool md_;     // the md workload: periodic, half-list phases, LAMMPS
+    double box_;  // its periodic cube's side
     case_info info_;
 };
 
@@ -207,7 +268,7 @@ void run_case(const config& cfg, const workload& w, std::size_t size, report& re
 }
 
 std::string settings_text(const config& cfg) {
-    std::string s = std::string(cfg.double_precision ? "double" : "float") + " coordinates; grid kind " +
+    std::string s = std::string(cfg.double_precision ? "double" : "float") + " coordinates (W8 always double); grid kind " +
                     std::string(to_string(cfg.kind)) + "; cell size ";
     s += cfg.cell_factor > 0 ? std::to_string(cfg.cell_factor) + " r" : "default";
     s += "; frnn lists in ";
@@ -331,7 +392,7 @@ report run(const config& cfg) {
     }
     contention* const load_ptr = load ? &*load : nullptr;
     for (const auto& [w, size] : plan) {
-        if (cfg.double_precision)
+        if (cfg.double_precision || w->md)
             run_case<double>(cfg, *w, size, rep, load_ptr);
         else
             run_case<float>(cfg, *w, size, rep, load_ptr);

@@ -40,9 +40,12 @@ std::string trim(std::string_view text) {
 
 constexpr double max_points = double(std::numeric_limits<std::uint32_t>::max() - 1);
 
+// Points of a lattice cell: the four of fcc for md workloads.
+double basis(const workload& w) { return w.md ? 4 : 1; }
+
 // Points of w's lattice of side `side`, in double so that a huge side cannot overflow.
 double lattice_points(const workload& w, std::size_t side) {
-    return std::pow(double(side), w.dim) + (w.id == "W5" ? 1 : 0);  // W5: one far outlier
+    return basis(w) * std::pow(double(side), w.dim) + (w.id == "W5" ? 1 : 0);  // W5: one far outlier
 }
 
 void check_count(const workload& w, double count, const std::string& asked) {
@@ -59,6 +62,7 @@ const std::vector<workload>& all_workloads() {
         {"W3", "clustered", 3, 1.0, {1000000}, false},
         {"W4", "plane", 2, 2.0, {1000000}, true},
         {"W5", "outlier", 3, 2.0, {1000000}, true},  // 100^3 + 1 points
+        {"W8", "md", 3, 2.8, {32000, 864000}, true, true},  // 4 * 20^3 and 4 * 60^3 atoms
     };
     return list;
 }
@@ -67,7 +71,7 @@ const workload& find_workload(std::string_view id) {
     const std::string want = upper(trim(id));
     for (const auto& w : all_workloads())
         if (w.id == want) return w;
-    throw error("unknown workload '" + std::string(id) + "': expected W1, W2, W3, W4, W5 or all");
+    throw error("unknown workload '" + std::string(id) + "': expected W1, W2, W3, W4, W5, W8 or all");
 }
 
 std::vector<std::string> parse_workload_list(std::string_view text) {
@@ -94,7 +98,7 @@ std::size_t lattice_side(const workload& w, std::size_t n) {
     if (!w.lattice) return 0;
     const double outliers = lattice_points(w, 0);
     // The root's rounding is off by one at most: compare the neighbouring sides too.
-    const auto guess = std::size_t(std::llround(std::pow(std::max(double(n) - outliers, 1.0), 1.0 / w.dim)));
+    const auto guess = std::size_t(std::llround(std::pow(std::max((double(n) - outliers) / basis(w), 1.0), 1.0 / w.dim)));
     std::size_t best = std::max<std::size_t>(guess, 2) - 1;
     for (std::size_t side = best + 1; side <= guess + 1; ++side)
         if (std::abs(lattice_points(w, side) - double(n)) < std::abs(lattice_points(w, best) - double(n)))
@@ -143,6 +147,7 @@ std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed)
 template <class T>
 std::vector<T> generate(const workload& w, std::size_t n) {
     const std::size_t n_points = point_count(w, n);
+    if (w.md) return fcc_lattice<T>(lattice_side(w, n), workload_seed);
     if (w.lattice) {
         std::vector<T> out = jittered_lattice<T>(lattice_side(w, n), w.dim, workload_seed);
         if (w.id == "W5") out.insert(out.end(), {T(1e7), T(1e7), T(1e7)});
@@ -164,6 +169,35 @@ std::vector<T> generate(const workload& w, std::size_t n) {
     return out;
 }
 
+double fcc_lattice_constant() { return std::cbrt(4.0 / 0.8442); }
+
+double periodic_box(const workload& w, std::size_t n) {
+    return w.md ? double(lattice_side(w, n)) * fcc_lattice_constant() : 0.0;
+}
+
+template <class T>
+std::vector<T> fcc_lattice(std::size_t side, unsigned long long seed) {
+    const double a = fcc_lattice_constant(), box = double(side) * a;
+    constexpr double offsets[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+    draw rng(seed);
+    std::vector<T> out;
+    out.reserve(4 * side * side * side * 3);
+    for (std::size_t k = 0; k < side; ++k)
+        for (std::size_t j = 0; j < side; ++j)
+            for (std::size_t i = 0; i < side; ++i)
+                for (const auto& o : offsets) {
+                    const double cell[3] = {double(i), double(j), double(k)};
+                    for (int axis = 0; axis < 3; ++axis) {
+                        double x = (cell[axis] + o[axis]) * a + rng.uniform(-0.05, 0.05) * a;
+                        if (x < 0) x += box;
+                        // A value that rounds up to the box length is its image at 0.
+                        const T t = T(x);
+                        out.push_back(t >= T(box) ? T(0) : t);
+                    }
+                }
+    return out;
+}
+
 template <class T>
 std::vector<T> moved_copy(std::span<const T> coords) {
     draw rng(motion_seed);
@@ -178,6 +212,8 @@ template std::vector<float> jittered_lattice<float>(std::size_t, int, unsigned l
 template std::vector<double> jittered_lattice<double>(std::size_t, int, unsigned long long);
 template std::vector<float> uniform_cube<float>(std::size_t, int, unsigned long long);
 template std::vector<double> uniform_cube<double>(std::size_t, int, unsigned long long);
+template std::vector<float> fcc_lattice<float>(std::size_t, unsigned long long);
+template std::vector<double> fcc_lattice<double>(std::size_t, unsigned long long);
 template std::vector<float> moved_copy<float>(std::span<const float>);
 template std::vector<double> moved_copy<double>(std::span<const double>);
 

@@ -3,6 +3,7 @@
 // equals the brute-force oracle's), and the Markdown and plot files appear. No timing is checked.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -92,6 +93,59 @@ void smoke(const std::string& workloads, std::size_t n, const std::string& tag) 
 TEST(BenchCli, LatticeWorkloadsAgreeAcrossMethods) { smoke("W1,W4,W5", 512, "lattice"); }
 
 TEST(BenchCli, PointCountWorkloadsAgreeAcrossMethods) { smoke("W2,W3", 3000, "points"); }
+
+// Directed pairs within r of the md workload by brute force with the minimum image.
+std::uint64_t periodic_oracle_pairs(std::size_t n) {
+    const auto& w = fb::find_workload("W8");
+    const auto p = fb::generate<double>(w, n);
+    const double box = fb::periodic_box(w, n), r2 = w.radius * w.radius;
+    std::uint64_t pairs = 0;
+    for (std::size_t i = 0; i < p.size() / 3; ++i)
+        for (std::size_t j = i + 1; j < p.size() / 3; ++j) {
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) {
+                double d = p[3 * j + a] - p[3 * i + a];
+                d -= box * std::nearbyint(d / box);
+                d2 += d * d;
+            }
+            pairs += d2 <= r2 ? 2 : 0;
+        }
+    return pairs;
+}
+
+// The md workload: its half-list phases (pairs counted twice) agree with the full lists and
+// the minimum-image oracle, and LAMMPS either joins with the same count or is said to be
+// missing. 2,916 atoms: 9^3 fcc cells, a box of 5 cells of r per axis.
+TEST(BenchCli, MdWorkloadHalfListsAndLammps) {
+    const scratch_dir dir("bench_md");
+    const std::string csv = (dir / "md.csv").string(), md = (dir / "md.md").string();
+    ASSERT_EQ(run("bench --workload W8 --n 2916 --threads 1,2 --repeat 1 --baselines --csv '" + csv +
+                  "' --markdown '" + md + "' > /dev/null 2>&1"),
+              0);
+    std::istringstream in(slurp(csv));
+    std::string line;
+    std::getline(in, line);
+    std::set<std::string> seen;
+    std::set<std::uint64_t> pairs;
+    while (std::getline(in, line)) {
+        ASSERT_NE(line.rfind("# VOID", 0), 0u) << line;
+        const auto f = split(line, ',');
+        ASSERT_EQ(f.size(), 10u) << line;
+        EXPECT_EQ(f[1], "2916") << line;
+        seen.insert(f[3] + "/" + f[4] + "/" + f[2]);
+        if (!f[7].empty()) pairs.insert(std::stoull(f[7]));
+    }
+    for (const char* t : {"1", "2"})
+        for (const char* phase : {"count", "list", "half", "half sorted-space", "half by-index", "build+half by-index"})
+            EXPECT_TRUE(seen.count(std::string("frnn/") + phase + "/" + t)) << phase << " at " << t;
+    ASSERT_EQ(pairs.size(), 1u) << "phases disagree on the pair count";
+    EXPECT_EQ(*pairs.begin(), periodic_oracle_pairs(2916));
+    const std::string markdown = slurp(md);
+    const bool lammps = std::system("command -v lmp > /dev/null 2>&1") == 0;
+    EXPECT_EQ(seen.count("lammps/build+half/1"), lammps ? 1u : 0u);
+    EXPECT_NE(markdown.find(lammps ? "| LAMMPS / frnn |" : "LAMMPS skipped: no `lmp` on PATH"), std::string::npos);
+    EXPECT_EQ(markdown.find("nanoflann"), std::string::npos);  // no periodic boxes there
+}
 
 TEST(BenchCli, OneSizePerWorkloadAsPointsOrSide) {
     const scratch_dir dir("bench_sizes");

@@ -14,7 +14,7 @@ using frnn::test::expect_error;
 
 TEST(BenchWorkloads, ListParsing) {
     EXPECT_EQ(fb::parse_workload_list("all"),
-              (std::vector<std::string>{"W1", "W2", "W3", "W4", "W5"}));
+              (std::vector<std::string>{"W1", "W2", "W3", "W4", "W5", "W8"}));
     EXPECT_EQ(fb::parse_workload_list("w2, W1,W2"), (std::vector<std::string>{"W2", "W1"}));
     EXPECT_THROW(fb::parse_workload_list("W7"), frnn::error);
     EXPECT_THROW(fb::parse_workload_list("W1,"), frnn::error);
@@ -82,13 +82,44 @@ TEST(BenchWorkloads, LatticeIsJitteredByAtMostATenth) {
 
 TEST(BenchWorkloads, SameSeedSamePoints) {
     for (const auto& w : fb::all_workloads()) {
-        const std::size_t n = 300;  // lattices round: W1 343, W4 289, W5 344
+        const std::size_t n = 300;  // lattices round: W1 343, W4 289, W5 344, W8 4 * 4^3
         const auto a = fb::generate<float>(w, n), b = fb::generate<float>(w, n);
         EXPECT_EQ(a, b) << w.id;
         EXPECT_EQ(a.size(), fb::point_count(w, n) * std::size_t(w.dim)) << w.id;
-        EXPECT_EQ(a.size() / std::size_t(w.dim), w.id == "W1" ? 343u : w.id == "W4" ? 289u : w.id == "W5" ? 344u : n);
+        const std::size_t expected = w.id == "W1" ? 343u : w.id == "W4" ? 289u : w.id == "W5" ? 344u : w.id == "W8" ? 256u : n;
+        EXPECT_EQ(a.size() / std::size_t(w.dim), expected);
         const auto d = fb::generate<double>(w, n);
         for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], float(d[k])) << w.id << " " << k;
+    }
+}
+
+// W8: LAMMPS's LJ benchmark lattice at its density, inside its periodic cube, and an fcc
+// lattice: every atom's nearest neighbor near a / sqrt(2), no closer than the jitter allows.
+TEST(BenchWorkloads, MdLatticeAtDensity08442InsideItsBox) {
+    const auto& w = fb::find_workload("W8");
+    EXPECT_EQ(fb::point_count(w, 32000), 32000u);
+    EXPECT_EQ(fb::point_count(w, 864000), 864000u);
+    EXPECT_EQ(fb::lattice_side(w, 864000), 60u);
+    EXPECT_EQ(fb::point_count(w, 600), 500u);  // 4 * 5^3, nearer than 4 * 6^3
+    const std::size_t n = 4 * 6 * 6 * 6;
+    const auto p = fb::generate<double>(w, n);
+    const double box = fb::periodic_box(w, n), a = fb::fcc_lattice_constant();
+    EXPECT_NEAR(double(n) / (box * box * box), 0.8442, 1e-12);
+    for (double x : p) ASSERT_TRUE(x >= 0 && x < box) << x;
+    for (std::size_t i = 0; i < n; ++i) {
+        double nearest = box;
+        for (std::size_t j = 0; j < n; ++j) {
+            if (j == i) continue;
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k) {
+                double d = p[3 * j + k] - p[3 * i + k];
+                d -= box * std::nearbyint(d / box);
+                d2 += d * d;
+            }
+            nearest = std::min(nearest, std::sqrt(d2));
+        }
+        // Each coordinate moves at most 0.05 a: a pair's distance at most 0.1 sqrt(3) a.
+        ASSERT_NEAR(nearest, a / std::sqrt(2.0), 0.1 * std::sqrt(3.0) * a) << i;
     }
 }
 

@@ -11,11 +11,16 @@
 namespace frnn::bench {
 
 /// Methods and phases, in the order reports list them.
-inline const std::vector<std::string> methods{"frnn", "nanoflann", "cell-list", "brute"};
-inline const std::vector<std::string> phases{"build", "count", "list", "build+list", "update"};
+inline const std::vector<std::string> methods{"frnn", "nanoflann", "cell-list", "brute", "lammps"};
+/// Half-list phases: those of the md workload (W8), and LAMMPS's neighbor build.
+inline const std::vector<std::string> phases{
+    "build", "count", "list", "build+list", "update",
+    "half", "half sorted-space", "half by-index", "build+half by-index",  // md workloads
+    "build+half",                                                         // LAMMPS
+};
 
 struct row {
-    std::string workload;  ///< "W1" .. "W5"
+    std::string workload;  ///< "W1" .. "W5", "W8"
     std::size_t n = 0;     ///< number of points
     int threads = 1;
     std::string method;    ///< one of `methods`

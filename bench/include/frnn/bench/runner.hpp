@@ -18,7 +18,7 @@
 namespace frnn::bench {
 
 struct config {
-    std::vector<std::string> workloads{"W1", "W2", "W3", "W4", "W5"};
+    std::vector<std::string> workloads{"W1", "W2", "W3", "W4", "W5", "W8"};
     /// Point counts for every workload (--n; a lattice workload takes its nearest lattice
     /// count); empty, and no `sides` either: each workload's default sizes.
     std::vector<std::size_t> sizes;

@@ -1,4 +1,4 @@
-// The workloads of BENCHMARKS.md (W1..W5), generated in process from std::mt19937_64 seeded
+// The workloads of BENCHMARKS.md (W1..W5, W8), generated in process from std::mt19937_64 seeded
 // with 42, drawing x, then y, then z of each point in order. O(N) time and memory.
 //
 // The mapping from the generator's 64-bit words to numbers is fixed here (not left to the
@@ -17,15 +17,18 @@
 namespace frnn::bench {
 
 struct workload {
-    std::string id;                    ///< "W1" .. "W5"
+    std::string id;                    ///< "W1" .. "W5", "W8"
     std::string name;                  ///< "lattice", "uniform", ...
     int dim;                           ///< 2 or 3
     double radius;                     ///< search radius of the workload
     std::vector<std::size_t> sizes;    ///< default point counts (rounded as point_count does)
-    bool lattice;                      ///< points on a jittered lattice (W1, W4, W5)
+    bool lattice;                      ///< points on a jittered lattice (W1, W4, W5, W8)
+    /// Molecular dynamics (W8): an fcc lattice (4 atoms per lattice cell) in a periodic cube,
+    /// always in double, with half-list phases and LAMMPS as its baseline.
+    bool md = false;
 };
 
-/// W1..W5 in order.
+/// W1..W5 and W8 in order.
 const std::vector<workload>& all_workloads();
 /// The workload with this id (case-insensitive); throws frnn::error for an unknown id.
 const workload& find_workload(std::string_view id);
@@ -33,8 +36,8 @@ const workload& find_workload(std::string_view id);
 std::vector<std::string> parse_workload_list(std::string_view text);
 
 /// Number of points `w` generates when asked for `n`: n for W2 and W3; for the lattice
-/// workloads the lattice count nearest to n (side^3 for W1, side^2 for W4, side^3 + 1 for W5;
-/// consecutive counts differ by an odd number, so there is no tie). Throws frnn::error when it
+/// workloads the lattice count nearest to n (side^3 for W1, side^2 for W4, side^3 + 1 for W5,
+/// 4 side^3 for W8; the smaller on a tie). Throws frnn::error when it
 /// is 0 or beyond 2^32 - 2 points.
 std::size_t point_count(const workload& w, std::size_t n);
 /// Side of the lattice of `w` that point_count(w, n) points fill; 0 for W2 and W3.
@@ -57,6 +60,15 @@ std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long se
 template <class T>
 std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed);
 
+/// W8's lattice constant: 4 atoms per a^3 at LAMMPS's LJ density 0.8442.
+double fcc_lattice_constant();
+/// The periodic box of an md workload asked for `n` (a cube of this side); 0 for the others.
+double periodic_box(const workload& w, std::size_t n);
+/// The atoms of W8: the fcc lattice of `side`^3 cells of edge fcc_lattice_constant() (cells in
+/// x-fastest order, four atoms each at (0,0,0), (1/2,1/2,0), (1/2,0,1/2), (0,1/2,1/2)), each
+/// coordinate moved by uniform(-0.05, 0.05) lattice constants, wrapped into [0, L).
+template <class T>
+std::vector<T> fcc_lattice(std::size_t side, unsigned long long seed);
 /// Seed of the workloads (BENCHMARKS.md) and of the "update" motion drawn after them.
 inline constexpr unsigned long long workload_seed = 42;
 inline constexpr unsigned long long motion_seed = 43;
