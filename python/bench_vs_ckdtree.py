@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""frnn against scipy.spatial.cKDTree on workloads W1 and W2 of BENCHMARKS.md, same process.
+"""frnn against scipy.spatial.cKDTree on workloads W1, W2 and W8 of BENCHMARKS.md, same process.
 
-Usage: PYTHONPATH=<build>/python /usr/bin/python3 python/bench_vs_ckdtree.py [--side 64]
+Usage: PYTHONPATH=<build>/python /usr/bin/python3 python/bench_vs_ckdtree.py [--side 64] [--md-cells 20]
 
 W1: jittered cubic lattice (spacing 1, jitter uniform(-0.1, 0.1)), side^3 points, r = 2.
 W2: side^3 uniform points in a cube of edge side (density 1), r = 2.
@@ -21,6 +21,15 @@ cKDTree equivalents:
   counts       g.count_neighbors()                    tree.query_ball_point(points, r, return_length=True)
 cKDTree's build, query_pairs and sparse_distance_matrix are single-threaded; query_ball_point
 takes workers. frnn runs with threads=1 and with all cores; cKDTree with workers=1 and -1.
+
+W8 (molecular dynamics): 4 * cells^3 atoms of an fcc lattice at density 0.8442, each coordinate
+moved by uniform(-0.05, 0.05) lattice constants, in a periodic cube; r = 2.8. Every method builds
+and finds each pair once: frnn Grid(points, r, periodic=L).query_pairs() (sorted pairs) and
+neighbors(half=True, sort=None), cKDTree(points, boxsize=L).query_pairs, MDAnalysis's
+FastNS(r, points, box, pbc=True).self_search() (python3-mdanalysis; float32 coordinates) and
+ASE's neighbor_list("ij", ...) (python3-ase; both directions, halved). MDAnalysis and ASE are
+skipped with a message when absent. The atoms are rounded to float32 first, so that every
+method sees the same points.
 """
 import argparse
 import os
@@ -120,6 +129,66 @@ def run(name, points, r, repeats, cores):
           (entries - n) // 2)
 
 
+def md_points(cells, rng):
+    a = (4 / 0.8442) ** (1 / 3)
+    box = cells * a
+    basis = np.array([[0, 0, 0], [0.5, 0.5, 0], [0.5, 0, 0.5], [0, 0.5, 0.5]])
+    axis = np.arange(cells)
+    z, y, x = np.meshgrid(axis, axis, axis, indexing="ij")
+    corners = np.stack([x, y, z], axis=-1).reshape(-1, 1, 3)
+    points = ((corners + basis[None]) * a).reshape(-1, 3)
+    points += rng.uniform(-0.05, 0.05, points.shape) * a
+    points = np.mod(points, box).astype(np.float32).astype(np.float64)
+    points[points >= box] = 0.0
+    return points, box
+
+
+def md_methods(points, box, r):
+    """name -> function building and returning the number of pairs (each once)."""
+    box3 = np.array([box] * 3)
+    methods = {
+        "frnn query_pairs": lambda t: len(frnn.Grid(points, r, periodic=box, threads=t).query_pairs()),
+        "frnn half lists": lambda t: int(frnn.Grid(points, r, periodic=box, threads=t)
+                                         .neighbors(half=True, sort=None)[0][-1]),
+        "cKDTree": lambda t: len(cKDTree(points, boxsize=box3).query_pairs(r, output_type="ndarray")),
+    }
+    try:
+        from MDAnalysis.lib.nsgrid import FastNS
+        dims = np.array([box, box, box, 90, 90, 90], dtype=np.float32)
+        single = points.astype(np.float32)
+        methods["MDAnalysis FastNS"] = lambda t: len(FastNS(r, single, dims, pbc=True).self_search().get_pairs())
+    except ImportError:
+        print("MDAnalysis skipped: not installed (Debian: python3-mdanalysis)")
+    try:
+        from ase.neighborlist import primitive_neighbor_list
+        methods["ASE neighbor_list"] = lambda t: len(primitive_neighbor_list(
+            "i", [True] * 3, np.diag(box3), points, r, self_interaction=False)) // 2
+    except ImportError:
+        print("ASE skipped: not installed (Debian: python3-ase)")
+    return methods
+
+
+def run_md(cells, repeats, cores):
+    points, box = md_points(cells, np.random.default_rng(42))
+    r = 2.8
+    print(f"\nW8 md: {len(points):,} atoms, periodic cube of side {box:.4f}, r = {r}; build + each pair once")
+    print(f"{'method':<20}{'threads':>8}{'ms':>10}{'ns/atom':>9}{'vs frnn':>9}{'pairs':>12}")
+    methods = md_methods(points, box, r)
+    reference = methods["frnn query_pairs"](1)
+    for threads in (1, cores):
+        frnn_ms = None
+        for name, f in methods.items():
+            # Only frnn takes threads; the others run once, at the first thread count.
+            if threads != 1 and not name.startswith("frnn"):
+                continue
+            pairs = f(threads)
+            ms = median_ms(lambda: f(threads), repeats)
+            frnn_ms = frnn_ms or ms
+            flag = "" if pairs == reference else f"  VOID: {pairs:,} pairs, frnn {reference:,}"
+            print(f"{name:<20}{threads:>8}{ms:>10.1f}{ms * 1e6 / len(points):>9.0f}{ms / frnn_ms:>8.1f}x"
+                  f"{pairs:>12,}{flag}", flush=True)
+
+
 def cpu_model():
     try:
         with open("/proc/cpuinfo") as f:
@@ -136,6 +205,7 @@ def main():
     ap.add_argument("--side", type=int, default=64, help="points = side^3 (64: 262,144)")
     ap.add_argument("--repeats", type=int, default=5, help="timed runs after the warm-up")
     ap.add_argument("--radius", type=float, default=2.0)
+    ap.add_argument("--md-cells", type=int, default=20, help="W8 atoms = 4 * cells^3 (20: 32,000); 0: skip W8")
     args = ap.parse_args()
     cores = os.cpu_count() or 1
     print(f"frnn {frnn.__version__} vs scipy {scipy.__version__} cKDTree, numpy {np.__version__}, "
@@ -146,6 +216,8 @@ def main():
     rng = np.random.default_rng(42)
     run("W1 lattice", w1(args.side, rng), args.radius, args.repeats, cores)
     run("W2 uniform", w2(args.side, rng), args.radius, args.repeats, cores)
+    if args.md_cells > 0:
+        run_md(args.md_cells, args.repeats, cores)
 
 
 if __name__ == "__main__":
