@@ -757,8 +757,8 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
                 img[a][i] = std::int8_t(u < 0 ? 1 : u >= cells ? -1 : 0);
             }
         }
-        // Along x, the stencil's cells of a row are one or two segments of consecutive cells
-        // (the wrapped part first), each one run.
+        // Along x, the stencil's cells of a row are one or two segments of consecutive cells,
+        // in increasing order, each one run.
         struct segment {
             std::int64_t from, to;
             std::int8_t image;
