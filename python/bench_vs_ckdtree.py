@@ -27,15 +27,22 @@ moved by uniform(-0.05, 0.05) lattice constants, in a periodic cube; r = 2.8. Ev
 and finds each pair once: frnn Grid(points, r, periodic=L).query_pairs() (sorted pairs) and
 neighbors(half=True, sort=None), cKDTree(points, boxsize=L).query_pairs, MDAnalysis's
 FastNS(r, points, box, pbc=True).self_search() (python3-mdanalysis; float32 coordinates) and
-ASE's neighbor_list("ij", ...) (python3-ase; both directions, halved). MDAnalysis and ASE are
-skipped with a message when absent. The atoms are rounded to float32 first, so that every
-method sees the same points.
+ASE's neighbor_list("ij", ...) (python3-ase; both directions, halved), and LAMMPS's neighbor
+build on one rank (`lmp`, Debian package lammps: the atoms in a data file, `pair_style zero`
+at r - 0.3, `neighbor 0.3 bin`, `neigh_modify every 1 delay 0 check no`, `run 20`; its "Neigh"
+time over its builds, a run per repetition). MDAnalysis, ASE and LAMMPS are skipped with a
+message when absent. The atoms are rounded to float32 first, so that every method sees the
+same points.
 """
 import argparse
 import os
 import platform
+import re
+import shutil
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -168,6 +175,34 @@ def md_methods(points, box, r):
     return methods
 
 
+def lammps_build(points, box, r):
+    """LAMMPS's neighbor build on one rank: (ms per build, pairs), or None without `lmp`."""
+    if shutil.which("lmp") is None:
+        print("LAMMPS skipped: no `lmp` on PATH (Debian: lammps)")
+        return None
+    with tempfile.TemporaryDirectory(prefix="frnn-lammps-") as folder:
+        with open(os.path.join(folder, "atoms.data"), "w") as f:
+            f.write(f"W8\n\n{len(points)} atoms\n1 atom types\n\n")
+            for axis in "xyz":
+                f.write(f"0 {box!r} {axis}lo {axis}hi\n")
+            f.write("\nMasses\n\n1 1.0\n\nAtoms # atomic\n\n")
+            for i, (x, y, z) in enumerate(points.tolist()):
+                f.write(f"{i + 1} 1 {x!r} {y!r} {z!r}\n")
+        with open(os.path.join(folder, "in.neighbors"), "w") as f:
+            f.write(f"units lj\natom_style atomic\nboundary p p p\nread_data atoms.data\n"
+                    f"pair_style zero {r - 0.3!r}\npair_coeff * *\nneighbor 0.3 bin\n"
+                    f"neigh_modify every 1 delay 0 check no\nvelocity all set 0.0 0.0 0.0\n"
+                    f"fix 1 all nve\nrun 20\n")
+        out = subprocess.run(["lmp", "-in", "in.neighbors", "-log", "none"], cwd=folder,
+                             capture_output=True, text=True, check=True).stdout
+    neigh = re.search(r"^Neigh\s*\|\s*\S+\s*\|\s*(\S+)", out, re.M)
+    builds = re.search(r"Neighbor list builds = (\d+)", out)
+    pairs = re.search(r"Total # of neighbors = (\d+)", out)
+    if not (neigh and builds and pairs):
+        sys.exit("LAMMPS's output lacks its Neigh time, build count or neighbor count")
+    return float(neigh.group(1)) * 1e3 / int(builds.group(1)), int(pairs.group(1))
+
+
 def run_md(cells, repeats, cores):
     points, box = md_points(cells, np.random.default_rng(42))
     r = 2.8
@@ -175,6 +210,7 @@ def run_md(cells, repeats, cores):
     print(f"{'method':<20}{'threads':>8}{'ms':>10}{'ns/atom':>9}{'vs frnn':>9}{'pairs':>12}")
     methods = md_methods(points, box, r)
     reference = methods["frnn query_pairs"](1)
+    lammps = [lammps_build(points, box, r) for _ in range(repeats)] if shutil.which("lmp") else [lammps_build(points, box, r)]
     for threads in (1, cores):
         frnn_ms = None
         for name, f in methods.items():
@@ -187,6 +223,12 @@ def run_md(cells, repeats, cores):
             flag = "" if pairs == reference else f"  VOID: {pairs:,} pairs, frnn {reference:,}"
             print(f"{name:<20}{threads:>8}{ms:>10.1f}{ms * 1e6 / len(points):>9.0f}{ms / frnn_ms:>8.1f}x"
                   f"{pairs:>12,}{flag}", flush=True)
+        if threads == 1 and lammps[0] is not None:
+            ms = statistics.median(t for t, _ in lammps)
+            pairs = lammps[0][1]
+            flag = "" if pairs == reference else f"  VOID: {pairs:,} pairs, frnn {reference:,}"
+            print(f"{'LAMMPS neighbor build':<20}{1:>8}{ms:>10.1f}{ms * 1e6 / len(points):>9.0f}"
+                  f"{ms / frnn_ms:>8.1f}x{pairs:>12,}{flag}", flush=True)
 
 
 def cpu_model():

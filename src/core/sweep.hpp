@@ -75,7 +75,9 @@ struct sweep_kernels {
     /// each pair once from the cells of [b, e) (grid::forward_runs): the points of [b, e)
     /// get their own count, the partner points found in later cells theirs in
     /// job.partner_counts (or job.counts, or the spills). On the uniform grid those lie up to
-    /// `reach` cell layers after e (in a periodic box, wrapping to the first layers).
+    /// `reach` cell layers after e (in a periodic box, wrapping to the first layers). With
+    /// job.half, a pair counts only for the point of the smaller id (job.ids, or the sorted
+    /// index): the sizes of half rows.
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
