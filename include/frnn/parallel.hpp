@@ -9,6 +9,10 @@
 // shared with another busy process, OpenMP's fork-join barriers wait for every thread of the team
 // at the end of every parallel loop, and its spinning threads hold cores the others need.
 //
+// The pool's workers keep off the CPUs that the other threads of their call run on, by
+// narrowing their own CPU affinity (never the caller's) when the call has no more threads than
+// CPUs: under load the kernel tends to put a woken worker on its caller's CPU.
+//
 // Thread safety: any number of threads may call parallel_chunks at once; each caller gets its
 // own workers (made on first use, ended with the calling thread). A call made from inside a
 // chunk runs its chunks on the calling thread, one after another.

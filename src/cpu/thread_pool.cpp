@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "cpu_spread.hpp"
 #include "frnn/error.hpp"
 #include "frnn/parallel.hpp"
 
@@ -142,6 +143,42 @@ private:
 // True while this thread runs a chunk: a parallel_chunks call from there runs serially.
 thread_local bool inside_chunk = false;
 
+// Keeps a worker off the CPUs of its job's other threads (see cpu_spread.hpp).
+class cpu_spreader {
+public:
+    cpu_spreader() {
+#ifdef __linux__
+        if (sched_getaffinity(0, sizeof allowed_, &allowed_) != 0) CPU_ZERO(&allowed_);
+#endif
+    }
+
+    /// Records where thread `me` of a job runs now: cpus[me] (see spread_mask).
+    static void note_cpu(int me, std::atomic<int>* cpus) {
+#ifdef __linux__
+        const int cpu = sched_getcpu();
+        if (cpus[me].load(std::memory_order_relaxed) != cpu) cpus[me].store(cpu, std::memory_order_relaxed);
+#else
+        static_cast<void>(me), static_cast<void>(cpus);
+#endif
+    }
+
+    /// Moves worker `me` off its CPU when a thread before it in the job runs there too.
+    void keep_apart(int me, std::atomic<int>* cpus, int threads) {
+#ifdef __linux__
+        cpu_set_t mask;
+        if (detail::spread_mask(me, cpus, threads, allowed_, mask) && sched_setaffinity(0, sizeof mask, &mask) == 0)
+            note_cpu(me, cpus);  // the kernel has moved this thread before returning
+#else
+        static_cast<void>(me), static_cast<void>(cpus), static_cast<void>(threads);
+#endif
+    }
+
+private:
+#ifdef __linux__
+    cpu_set_t allowed_{};
+#endif
+};
+
 // One call's work. Shared by the caller and the workers that joined; a worker may hold it after
 // the call has returned, but then only finds the chunk counter exhausted and never touches
 // `context`, which lived in the caller's frame.
@@ -149,19 +186,27 @@ struct job {
     void (*run)(void*, std::size_t, int) = nullptr;
     void* context = nullptr;
     std::size_t chunks = 0;
-    int helpers = 0;  // workers 1..helpers may join
+    int helpers;  // workers 1..helpers may join
     std::atomic<std::size_t> next{0}, finished{0};
     wake_word done;  // 1 once every chunk has finished
     std::atomic<bool> failed{false};
     std::mutex error_mutex;
     std::exception_ptr error;
+    std::unique_ptr<std::atomic<int>[]> cpus;  // where thread 0..helpers ran its last chunk
 
-    void take_chunks(int worker) {
+    explicit job(int threads) : helpers(threads - 1), cpus(new std::atomic<int>[std::size_t(threads)]) {
+        for (int i = 0; i < threads; ++i) cpus[i].store(-1, std::memory_order_relaxed);
+    }
+
+    /// Runs chunks until none is left. A worker passes its spreader (see cpu_spreader).
+    void take_chunks(int worker, cpu_spreader* spreader = nullptr) {
         const bool outer = inside_chunk;
         inside_chunk = true;
         for (;;) {
             const std::size_t c = next.fetch_add(1, std::memory_order_relaxed);
             if (c >= chunks) break;
+            cpu_spreader::note_cpu(worker, cpus.get());
+            if (spreader) spreader->keep_apart(worker, cpus.get(), helpers + 1);
             if (!failed.load(std::memory_order_relaxed)) {
                 try {
                     run(context, c, worker);
@@ -198,11 +243,11 @@ public:
 
     void run(std::size_t chunks, int threads, void (*body)(void*, std::size_t, int), void* context) {
         add_workers(std::size_t(threads - 1));
-        auto j = std::make_shared<job>();
+        auto j = std::make_shared<job>(std::min(threads, int(workers_.size()) + 1));
         j->run = body;
         j->context = context;
         j->chunks = chunks;
-        j->helpers = std::min(threads - 1, int(workers_.size()));
+        cpu_spreader::note_cpu(0, j->cpus.get());  // before any worker looks
         publish(j);
         j->take_chunks(0);
         j->done.wait_while(0);
@@ -236,6 +281,7 @@ private:
     }
 
     void work(int index, std::uint32_t seen) {
+        cpu_spreader spreader;
         for (;;) {
             generation_.wait_while(seen, true);
             seen = generation_.load();
@@ -245,7 +291,7 @@ private:
                 const std::lock_guard lock(mutex_);
                 j = current_;
             }
-            if (j && index <= j->helpers) j->take_chunks(index);
+            if (j && index <= j->helpers) j->take_chunks(index, &spreader);
         }
     }
 
