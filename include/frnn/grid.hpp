@@ -35,6 +35,7 @@
 #include "frnn/buffer.hpp"
 #include "frnn/csr.hpp"
 #include "frnn/error.hpp"
+#include "frnn/grid_geometry.hpp"
 #include "frnn/options.hpp"
 #include "frnn/search_scale.hpp"
 
@@ -87,25 +88,6 @@ private:
     mutable std::atomic<bool> ready_{false};
 };
 
-/// A grid's geometry, in search space (the caller's units times `scale`), as a build chooses
-/// it before any member changes (see grid::plan).
-template <class T>
-struct grid_layout {
-    grid_kind kind = grid_kind::uniform;  ///< never automatic
-    bool periodic = false;
-    bool inside_box = false;           ///< periodic: all points in [0, L) per axis
-    int reach = 1;                     ///< cells visited on each side
-    std::array<double, 3> origin{};    ///< lower corner of cell (0,0,0)
-    std::array<double, 3> cell{};      ///< effective cell edge per axis
-    std::array<double, 3> inv_cell{};
-    std::array<std::int64_t, 3> dims{1, 1, 1};  ///< cells per axis (uniform grid)
-    std::array<T, 3> box{};            ///< periodic box lengths
-    std::size_t slots = 0;             ///< cells (uniform) or table slots (hashed, a power of 2)
-    T scale = 1;                       ///< search scale (frnn/search_scale.hpp)
-    T search_radius = 0;               ///< radius * scale
-    double far_bound = INFINITY;       ///< hashed: query coordinates beyond +-this have no neighbors
-};
-
 /// Memory a grid keeps between its builds for their scratch (the system may take it back in
 /// between, see free_lazily). A copy of the grid starts without it.
 struct build_scratch {
@@ -136,14 +118,17 @@ public:
     void rebuild(std::span<const T> coords);
 
     std::size_t size() const { return perm_.size(); }
+    /// Where the cells are and how they are numbered (frnn/grid_geometry.hpp): the cells a
+    /// query visits, the cell of a point, a cell's corners.
+    const grid_geometry<T>& geometry() const { return geometry_; }
     T radius() const { return radius_; }
-    grid_kind kind() const { return layout_.kind; }          ///< uniform or hashed, never automatic
-    double cell_size(int axis = 0) const { return layout_.cell[axis] / double(layout_.scale); }
-    int reach() const { return layout_.reach; }              ///< cells visited on each side
-    std::size_t cell_count() const { return layout_.slots; } ///< cells (uniform) or table slots (hashed)
+    grid_kind kind() const { return geometry_.kind; }          ///< uniform or hashed, never automatic
+    double cell_size(int axis = 0) const { return geometry_.cell[axis] / double(geometry_.scale); }
+    int reach() const { return geometry_.reach; }              ///< cells visited on each side
+    std::size_t cell_count() const { return geometry_.slots; } ///< cells (uniform) or table slots (hashed)
     std::size_t nonempty_cells() const { return nonempty_; }
     std::size_t memory_bytes() const;                 ///< bytes held by the structure
-    bool periodic() const { return layout_.periodic; }
+    bool periodic() const { return geometry_.periodic; }
     const grid_options& options() const { return options_; }
     int threads() const;
     void set_threads(int threads) { options_.threads = threads; }
@@ -151,9 +136,9 @@ public:
     /// The power of two by which coordinates, radius and box are multiplied for the search: 1
     /// except for extreme radii (frnn/search_scale.hpp). "Search space" below means the
     /// caller's coordinates times this.
-    T search_scale() const { return layout_.scale; }
-    T search_radius() const { return layout_.search_radius; }  ///< radius() * search_scale()
-    T search_box(int axis) const { return layout_.box[axis]; }  ///< periodic box length, search space
+    T search_scale() const { return geometry_.scale; }
+    T search_radius() const { return geometry_.search_radius; }  ///< radius() * search_scale()
+    T search_box(int axis) const { return geometry_.box[axis]; }  ///< periodic box length, search space
 
     /// sorted_to_original()[s] is the caller's index of the s-th point in cell order.
     std::span<const std::uint32_t> sorted_to_original() const { return perm_; }
@@ -161,7 +146,7 @@ public:
     /// on the first call after a build (4 bytes per point from then on).
     std::span<const std::uint32_t> original_to_sorted() const { return inverse_.get(perm_, threads()); }
     /// Coordinate `axis` of the s-th point in cell order, as the caller gave it.
-    T sorted_coord(std::size_t s, int axis) const { return layout_.scale == 1 ? pos_[axis][s] : input_pos_[axis][s]; }
+    T sorted_coord(std::size_t s, int axis) const { return geometry_.scale == 1 ? pos_[axis][s] : input_pos_[axis][s]; }
     /// All coordinates on `axis` in cell order, in search space (size() values, then
     /// detail::coordinate_padding zeros): the caller's when search_scale() is 1.
     const T* search_coords(int axis) const { return pos_[axis].data(); }
@@ -239,7 +224,7 @@ public:
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1, detail::run_image* images = nullptr) const;
     /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).
-    bool points_inside_box() const { return layout_.inside_box; }
+    bool points_inside_box() const { return geometry_.inside_box; }
     /// Periodic box: whether the run images of stencil_runs and forward_runs are the minimum
     /// image of every pair within r of grid points: all points inside the box, and at least
     /// 2 reach + 3 cells per axis (then another image lies more than r away).
@@ -248,7 +233,7 @@ public:
     /// x + nx * (y + ny * z). Uniform grid: cell c holds the sorted points
     /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table
     /// slots only, in slot order, then size().
-    std::array<std::int64_t, 3> cells_per_axis() const { return layout_.dims; }
+    std::array<std::int64_t, 3> cells_per_axis() const { return geometry_.dims; }
     std::span<const std::uint32_t> cell_starts() const { return offsets_; }
     /// Distance squared between x and sorted point j, in search space, with the minimum image
     /// when periodic.
@@ -256,31 +241,28 @@ public:
         T d2 = 0;
         for (int a = 0; a < D; ++a) {
             T d = pos_[a][j] - x[a];
-            if (layout_.periodic) d -= layout_.box[a] * std::nearbyint(d / layout_.box[a]);
+            if (geometry_.periodic) d -= geometry_.box[a] * std::nearbyint(d / geometry_.box[a]);
             d2 += d * d;
         }
         return d2;
     }
     /// Integer cell coordinates of x, in search space (clamped to the uniform grid, wrapped
     /// when periodic).
-    std::array<std::int64_t, 3> cell_of(const point& x) const;
+    cell_index cell_of(const point& x) const { return geometry_.cell_of(x); }
     /// The caller's query point x in search space, checked (index: for the message). On the
     /// hashed grid a coordinate beyond every point by more than the stencil is brought back to
     /// that distance, where it still has no neighbors: cell keys stay in range.
     point search_point(const point& x, std::size_t index) const {
         check_query_point(x, index);
         point y;
-        for (int a = 0; a < D; ++a) y[a] = T(std::clamp(double(x[a] * layout_.scale), -layout_.far_bound, layout_.far_bound));
+        for (int a = 0; a < D; ++a) y[a] = T(std::clamp(double(x[a] * geometry_.scale), -geometry_.far_bound, geometry_.far_bound));
         return y;
     }
     /// Hashed grid: whether sorted point j lies in `cell` (equals cell_of(point j) == cell, but
     /// inline: every cell lookup calls it, several times in slots shared by several cells).
     bool hashed_point_in_cell(std::uint32_t j, const std::array<std::int64_t, 3>& cell) const {
-        for (int a = 0; a < D; ++a) {
-            const double v = double(pos_[a][j]) * layout_.inv_cell[a];
-            const auto i = std::int64_t(v);  // floor(v): |v| < 2^52 is checked at build
-            if (i - std::int64_t(double(i) > v) != cell[a]) return false;
-        }
+        for (int a = 0; a < D; ++a)  // |v| < 2^52 cells is checked at build
+            if (detail::floor_to_int(double(pos_[a][j]) * geometry_.inv_cell[a]) != cell[a]) return false;
         return true;
     }
 
@@ -294,8 +276,8 @@ private:
     void for_each_near_sorted(const point& x, F&& f) const {
         detail::candidate_run runs[detail::max_runs];
         const std::size_t n = candidate_runs(x, runs);
-        const T r2 = layout_.search_radius * layout_.search_radius;
-        const T inv = T(1) / layout_.scale;
+        const T r2 = geometry_.search_radius * geometry_.search_radius;
+        const T inv = T(1) / geometry_.scale;
         for (std::size_t k = 0; k < n; ++k) {
             const auto& run = runs[k];
             for (std::uint32_t j = run.begin; j < run.end; ++j) {
@@ -314,7 +296,7 @@ private:
     std::span<const T> search_queries(std::span<const T> queries, std::vector<T>& storage) const;
     /// Validates a build's input and chooses its geometry, changing nothing; `scaled` receives
     /// the coordinates in search space when the search scale is not 1.
-    detail::grid_layout<T> plan(std::span<const T> coords, T radius, const grid_options& options,
+    grid_geometry<T> plan(std::span<const T> coords, T radius, const grid_options& options,
                                 std::vector<T>& scaled) const;
     void clear() noexcept;
     void sort_into_cells(std::span<const T> coords);
@@ -343,7 +325,9 @@ private:
     static constexpr std::uint32_t empty_slot = 0xFFFFFFFFu;
     bool cells_sorted(std::uint32_t begin, std::uint32_t end) const;
     void group_cells(std::uint32_t begin, std::uint32_t end);
-    std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const;
+    std::uint32_t slot_of_cell(const std::array<std::int64_t, 3>& c) const {
+        return std::uint32_t(geometry_.slot_of_cell(c));
+    }
     /// Hashed grid: the sorted points [first, second) of a cell (an empty range if it has none).
     std::pair<std::uint32_t, std::uint32_t> hashed_cell_points(const std::array<std::int64_t, 3>& cell) const;
     /// Hashed grid: the runs of the stencil of a cell, or of its forward half.
@@ -352,7 +336,7 @@ private:
     // Configuration.
     grid_options options_;
     T radius_ = 0;
-    detail::grid_layout<T> layout_;  // geometry: kind, cells, box, search scale
+    grid_geometry<T> geometry_;  // kind, cells, box, search scale
     std::size_t nonempty_ = 0;
 
     // Structure.
@@ -361,7 +345,7 @@ private:
     buffer<std::uint32_t> perm_;            // sorted -> original
     detail::lazy_inverse inverse_;          // original -> sorted, on first use
     std::vector<std::uint32_t> offsets_;    // run starts: of the cells, or of the occupied slots (hashed); then size()
-    std::vector<detail::occupied_slots> occupied_;  // hashed: layout_.slots / 32 words
+    std::vector<detail::occupied_slots> occupied_;  // hashed: geometry_.slots / 32 words
     std::vector<std::uint64_t> mixed_;      // hashed: bit per occupied slot holding points of several cells
 
     // Build scratch, kept for rebuilds.

@@ -7,7 +7,6 @@
 #include <memory>
 #include <string>
 
-#include "core/hashing.hpp"
 #include "core/kind_policy.hpp"
 #include "core/sweep.hpp"
 #include "cpu/page_release.hpp"
@@ -42,12 +41,6 @@ struct point_record {
     std::uint32_t index;
 };
 
-// std::floor for |v| < 2^63, without a library call on CPUs lacking SSE4.1 rounding.
-inline std::int64_t floor_to_int(double v) {
-    const auto i = std::int64_t(v);
-    return i - std::int64_t(double(i) > v);
-}
-
 std::string fmt_double(double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -73,30 +66,10 @@ void grid<T, D>::check_query_point(const point& x, std::size_t index) const {
         if (!std::isfinite(x[a]))
             throw error("query point " + std::to_string(index) + " has a non-finite coordinate (axis " +
                         std::to_string(a) + ")");
-        if (layout_.periodic && std::abs(double(x[a])) >= options_.periodic[a] * 0x1p30)
+        if (geometry_.periodic && std::abs(double(x[a])) >= options_.periodic[a] * 0x1p30)
             throw error("query point " + std::to_string(index) +
                         " lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
     }
-}
-
-template <class T, int D>
-std::array<std::int64_t, 3> grid<T, D>::cell_of(const point& x) const {
-    std::array<std::int64_t, 3> c{0, 0, 0};
-    for (int a = 0; a < D; ++a) {
-        const double v = double(x[a]);
-        if (layout_.periodic) {
-            const double box = double(layout_.box[a]);
-            double w = v - box * std::floor(v / box);
-            w = std::clamp(w * layout_.inv_cell[a], 0.0, double(layout_.dims[a] - 1));
-            c[a] = std::int64_t(w);
-        } else if (layout_.kind == grid_kind::uniform) {
-            const double u = std::clamp((v - layout_.origin[a]) * layout_.inv_cell[a], 0.0, double(layout_.dims[a] - 1));
-            c[a] = std::int64_t(u);
-        } else {
-            c[a] = floor_to_int(v * layout_.inv_cell[a]);
-        }
-    }
-    return c;
 }
 
 template <class T, int D>
@@ -112,9 +85,9 @@ std::size_t grid<T, D>::memory_bytes() const {
 // Validates the input and chooses the geometry: search scale, kind, cell size, reach,
 // dimensions. Changes nothing, so that a build that throws leaves the grid as it was.
 template <class T, int D>
-detail::grid_layout<T> grid<T, D>::plan(std::span<const T> coords, T radius, const grid_options& o,
+grid_geometry<T> grid<T, D>::plan(std::span<const T> coords, T radius, const grid_options& o,
                                         std::vector<T>& scaled) const {
-    detail::grid_layout<T> l;
+    grid_geometry<T> l;
     if (!std::isfinite(radius) || radius <= 0)
         throw error("radius must be finite and > 0 (got " + fmt_double(double(radius)) + ")");
     if (coords.size() % D != 0)
@@ -299,7 +272,7 @@ void grid<T, D>::clear() noexcept {
     mixed_ = {};
     try {
         std::vector<T> none;
-        layout_ = plan({}, radius_, options_, none);
+        geometry_ = plan({}, radius_, options_, none);
         sort_into_cells({});
     } catch (...) {
         // Not even an empty grid's few bytes: size() is 0 already (perm_ is empty).
@@ -307,17 +280,10 @@ void grid<T, D>::clear() noexcept {
 }
 
 template <class T, int D>
-std::uint32_t grid<T, D>::slot_of_cell(const std::array<std::int64_t, 3>& c) const {
-    if (layout_.kind == grid_kind::uniform)
-        return std::uint32_t(c[0] + layout_.dims[0] * (c[1] + layout_.dims[1] * c[2]));
-    return std::uint32_t((detail::row_hash(c[1], c[2]) + std::uint64_t(c[0])) & (layout_.slots - 1));
-}
-
-template <class T, int D>
 std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
     const auto cell = cell_of(sorted_point(s));
     const std::uint32_t slot = slot_of_cell(cell);
-    if (layout_.kind != grid_kind::hashed) return offsets_[slot + 1];
+    if (geometry_.kind != grid_kind::hashed) return offsets_[slot + 1];
     const std::uint32_t k = occupied_index(slot);  // occupied: point s lies in it
     if (mixed_[k / 64] >> (k % 64) & 1) {
         // A shared slot holds its cells one after the other (see group_cells).
@@ -331,10 +297,10 @@ std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
 template <class T, int D>
 void grid<T, D>::build(std::span<const T> coords, T radius, const grid_options& options) {
     std::vector<T> scaled;
-    const detail::grid_layout<T> layout = plan(coords, radius, options, scaled);
+    const grid_geometry<T> layout = plan(coords, radius, options, scaled);
     if (&options != &options_) options_ = options;
     radius_ = radius;
-    layout_ = layout;
+    geometry_ = layout;
     try {
         sort_into_cells(scaled.empty() ? coords : std::span<const T>(scaled));
         // A scaled grid keeps the caller's coordinates too (scaling may round tiny ones).
@@ -360,19 +326,19 @@ void grid<T, D>::rebuild(std::span<const T> coords) {
 
 template <class T, int D>
 void grid<T, D>::input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const {
-    if (layout_.kind == grid_kind::uniform && !layout_.periodic) {
+    if (geometry_.kind == grid_kind::uniform && !geometry_.periodic) {
         // The common case in vector code (cells within 2^31 per axis: checked in configure).
         detail::uniform_frame f{};
-        for (int a = 0; a < D; ++a) f.lo[a] = layout_.origin[a], f.inv[a] = layout_.inv_cell[a], f.top[a] = double(layout_.dims[a] - 1);
-        f.stride1 = std::uint32_t(layout_.dims[0]);
-        f.stride2 = std::uint32_t(layout_.dims[0] * layout_.dims[1]);
+        for (int a = 0; a < D; ++a) f.lo[a] = geometry_.origin[a], f.inv[a] = geometry_.inv_cell[a], f.top[a] = double(geometry_.dims[a] - 1);
+        f.stride1 = std::uint32_t(geometry_.dims[0]);
+        f.stride2 = std::uint32_t(geometry_.dims[0] * geometry_.dims[1]);
         detail::sweep_for_cpu<T, D>().uniform_slots(coords, b, e, f, out);
         return;
     }
-    if (layout_.kind == grid_kind::hashed) {
+    if (geometry_.kind == grid_kind::hashed) {
         detail::hashed_frame f{};
-        for (int a = 0; a < D; ++a) f.inv[a] = layout_.inv_cell[a];
-        f.mask = layout_.slots - 1;
+        for (int a = 0; a < D; ++a) f.inv[a] = geometry_.inv_cell[a];
+        f.mask = geometry_.slots - 1;
         detail::sweep_for_cpu<T, D>().hashed_slots(coords, b, e, f, out);
         return;
     }
@@ -407,8 +373,8 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     }
     perm_.resize(n);
     inverse_.invalidate();
-    offsets_.assign(layout_.slots + 1, 0);
-    thread_counts_.assign(parts * layout_.slots, 0);
+    offsets_.assign(geometry_.slots + 1, 0);
+    thread_counts_.assign(parts * geometry_.slots, 0);
 
     // Scratch: the slot of every input point, written by the insert pass and read by the
     // scatter (cheaper than computing it twice), then room for step 4 with input in random
@@ -432,7 +398,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
         constexpr std::size_t batch = 256;
         for (std::size_t i = b; i < e; i += batch) input_slots(coords.data(), i, std::min(e, i + batch), slot_of + i);
-        std::uint32_t* counts = thread_counts_.data() + c * layout_.slots;
+        std::uint32_t* counts = thread_counts_.data() + c * geometry_.slots;
         std::uint32_t prev = 0;
         std::size_t near = 0;
         for (std::size_t i = b; i < e; ++i) {
@@ -444,20 +410,20 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         local[c] = near;
     });
     // 2. Per cell: start of each chunk inside the cell, and the cell's total.
-    const std::size_t slot_parts = detail::chunk_count(layout_.slots, threads, 1 << 14);
-    detail::for_each_chunk(layout_.slots, slot_parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
+    const std::size_t slot_parts = detail::chunk_count(geometry_.slots, threads, 1 << 14);
+    detail::for_each_chunk(geometry_.slots, slot_parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t s = b; s < e; ++s) {
             std::uint32_t sum = 0;
             for (std::size_t c = 0; c < parts; ++c) {
-                const std::uint32_t v = thread_counts_[c * layout_.slots + s];
-                thread_counts_[c * layout_.slots + s] = sum;
+                const std::uint32_t v = thread_counts_[c * geometry_.slots + s];
+                thread_counts_[c * geometry_.slots + s] = sum;
                 sum += v;
             }
             offsets_[s] = sum;
         }
     });
     // 3. Exclusive prefix sum: where each cell starts.
-    detail::exclusive_scan(offsets_.data(), layout_.slots + 1, threads);
+    detail::exclusive_scan(offsets_.data(), geometry_.slots + 1, threads);
     // 4. Stable scatter into cell order. Input in cell order (or nearly) is written straight
     // into the arrays: its writes stay within a few cells. Other input would miss the cache
     // on its D + 1 scattered writes per point. When its records fit the cache, each point goes
@@ -467,7 +433,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     for (auto v : local) near += v;
     if (2 * near >= n) {
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-            std::uint32_t* next = thread_counts_.data() + c * layout_.slots;
+            std::uint32_t* next = thread_counts_.data() + c * geometry_.slots;
             for (std::size_t i = b; i < e; ++i) {
                 const std::uint32_t s = slot_of[i];
                 const std::uint32_t dst = offsets_[s] + next[s]++;
@@ -478,7 +444,7 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     } else if (record_bytes > 0) {
         record* const records = reinterpret_cast<record*>(scratch.data() + slot_bytes);
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-            std::uint32_t* next = thread_counts_.data() + c * layout_.slots;
+            std::uint32_t* next = thread_counts_.data() + c * geometry_.slots;
             for (std::size_t i = b; i < e; ++i) {
                 const std::uint32_t s = slot_of[i];
                 record& r = records[offsets_[s] + next[s]++];
@@ -508,10 +474,10 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
     // Buckets are cut between groups of 2^shift slots, small groups (a sixteenth of a bucket
     // on average) so that uneven density still gives buckets of about the same size.
     int shift = 0;
-    while (shift < 24 && double(std::size_t(2) << shift) * double(n) <= double(layout_.slots) * (bucket_points / 16)) ++shift;
-    const std::size_t groups = ((layout_.slots - 1) >> shift) + 1;
+    while (shift < 24 && double(std::size_t(2) << shift) * double(n) <= double(geometry_.slots) * (bucket_points / 16)) ++shift;
+    const std::size_t groups = ((geometry_.slots - 1) >> shift) + 1;
     std::vector<std::uint32_t> bucket_of(groups);
-    std::vector<std::size_t> first_slot;  // of each bucket, then layout_.slots
+    std::vector<std::size_t> first_slot;  // of each bucket, then geometry_.slots
     std::size_t largest = 0;              // points of the largest bucket
     for (std::size_t q = 0; q < groups; ++q) {
         const std::size_t s = q << shift;
@@ -522,13 +488,13 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
         bucket_of[q] = std::uint32_t(first_slot.size() - 1);
     }
     largest = std::max<std::size_t>(largest, n - offsets_[first_slot.back()]);
-    first_slot.push_back(layout_.slots);
+    first_slot.push_back(geometry_.slots);
     const std::size_t buckets = first_slot.size() - 1;
 
     // (a) By bucket. Chunk c's points of a bucket start after those of the earlier chunks,
     // which are the sum of their counts in the bucket's cells (step 2 left them per cell).
     detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
-        const std::uint32_t* earlier = thread_counts_.data() + c * layout_.slots;
+        const std::uint32_t* earlier = thread_counts_.data() + c * geometry_.slots;
         std::vector<std::uint32_t> next(buckets);
         for (std::size_t k = 0; k < buckets; ++k) {
             std::uint32_t start = offsets_[first_slot[k]];
@@ -574,7 +540,7 @@ void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32
 // shared slots are marked and cells counted.
 template <class T, int D>
 void grid<T, D>::index_cells() {
-    if (layout_.kind == grid_kind::hashed) index_occupied_slots();
+    if (geometry_.kind == grid_kind::hashed) index_occupied_slots();
     else occupied_ = {};
     mark_mixed_slots();
 }
@@ -584,7 +550,7 @@ void grid<T, D>::index_cells() {
 template <class T, int D>
 void grid<T, D>::index_occupied_slots() {
     const int threads = detail::resolve_threads(options_.threads);
-    const std::size_t words = layout_.slots / 32;  // layout_.slots is a power of 2, at least 64
+    const std::size_t words = geometry_.slots / 32;  // geometry_.slots is a power of 2, at least 64
     occupied_.resize(words);
     const std::size_t parts = detail::chunk_count(words, threads, 1 << 10);
     std::vector<std::uint32_t> before(parts + 1, 0);
@@ -648,7 +614,7 @@ bool grid<T, D>::cells_sorted(std::uint32_t b, std::uint32_t e) const {
 template <class T, int D>
 void grid<T, D>::mark_mixed_slots() {
     const int threads = detail::resolve_threads(options_.threads);
-    const bool hashed = layout_.kind == grid_kind::hashed;
+    const bool hashed = geometry_.kind == grid_kind::hashed;
     const std::size_t runs = offsets_.size() - 1;  // cells, or occupied slots (hashed)
     mixed_.assign(hashed ? (runs + 63) / 64 : 0, 0);
     const std::size_t words = (runs + 63) / 64;
@@ -704,9 +670,9 @@ void append_imaged_run(detail::candidate_run* out, detail::run_image* images, st
 
 template <class T, int D>
 bool grid<T, D>::images_exact() const {
-    if (!layout_.periodic || !layout_.inside_box) return false;
+    if (!geometry_.periodic || !geometry_.inside_box) return false;
     for (int a = 0; a < D; ++a)
-        if (layout_.dims[a] < 2 * layout_.reach + 3) return false;
+        if (geometry_.dims[a] < 2 * geometry_.reach + 3) return false;
     return true;
 }
 
@@ -714,25 +680,25 @@ template <class T, int D>
 std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
                                      std::int64_t width, detail::run_image* images) const {
     std::size_t n = 0;
-    const int k = layout_.reach;
+    const int k = geometry_.reach;
     auto add = [&](std::uint32_t b, std::uint32_t e) { detail::append_run(out, n, b, e); };
     const int zr = D == 3 ? k : 0;
-    if (layout_.kind == grid_kind::uniform && !layout_.periodic) {
+    if (geometry_.kind == grid_kind::uniform && !geometry_.periodic) {
         const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
-        const std::int64_t x1 = std::min<std::int64_t>(layout_.dims[0] - 1, c[0] + width - 1 + k);
+        const std::int64_t x1 = std::min<std::int64_t>(geometry_.dims[0] - 1, c[0] + width - 1 + k);
         for (int dz = -zr; dz <= zr; ++dz) {
             const std::int64_t z = c[2] + dz;
-            if (z < 0 || z >= layout_.dims[2]) continue;
+            if (z < 0 || z >= geometry_.dims[2]) continue;
             for (int dy = -k; dy <= k; ++dy) {
                 const std::int64_t y = c[1] + dy;
-                if (y < 0 || y >= layout_.dims[1]) continue;
-                const std::int64_t row = (z * layout_.dims[1] + y) * layout_.dims[0];
+                if (y < 0 || y >= geometry_.dims[1]) continue;
+                const auto row = std::int64_t(geometry_.slot_of_cell({0, y, z}));
                 add(offsets_[row + x0], offsets_[row + x1 + 1]);
             }
         }
         return n;
     }
-    if (layout_.periodic) {
+    if (geometry_.periodic) {
         // Along y and z, the stencil's distinct wrapped cells in increasing order (so the runs
         // come in order of sorted index), each with its image: every cell, image 0, when the
         // axis has no more than 2k + 1 of them.
@@ -740,7 +706,7 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
         std::array<std::array<std::int8_t, 9>, 3> img{};
         std::array<int, 3> count{1, 1, 1};
         for (int a = 1; a < D; ++a) {
-            const std::int64_t cells = layout_.dims[a];
+            const std::int64_t cells = geometry_.dims[a];
             if (cells <= 2 * k + 1) {
                 count[a] = int(cells);
                 for (int i = 0; i < count[a]; ++i) idx[a][i] = i;
@@ -766,7 +732,7 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
         std::array<segment, 2> xs{};
         int nx = 0;
         {
-            const std::int64_t cells = layout_.dims[0], lo = c[0] - k, hi = c[0] + k;
+            const std::int64_t cells = geometry_.dims[0], lo = c[0] - k, hi = c[0] + k;
             if (cells <= 2 * k + 1) xs[nx++] = {0, cells - 1, 0};
             else if (lo < 0) xs[nx++] = {0, hi, 0}, xs[nx++] = {lo + cells, cells - 1, 1};
             else if (hi >= cells) xs[nx++] = {0, hi - cells, -1}, xs[nx++] = {lo, cells - 1, 0};
@@ -774,7 +740,7 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
         }
         for (int iz = 0; iz < count[2]; ++iz)
             for (int iy = 0; iy < count[1]; ++iy) {
-                const std::int64_t row = (idx[2][iz] * layout_.dims[1] + idx[1][iy]) * layout_.dims[0];
+                const auto row = std::int64_t(geometry_.slot_of_cell({0, idx[1][iy], idx[2][iz]}));
                 for (int ix = 0; ix < nx; ++ix) {
                     const std::uint32_t b = offsets_[row + xs[ix].from], e = offsets_[row + xs[ix].to + 1];
                     if (!images) {
@@ -801,7 +767,7 @@ std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool f
             detail::append_run(out, n, b, e);
         }
     };
-    const int k = layout_.reach;
+    const int k = geometry_.reach;
     const int zr = D == 3 ? k : 0;
     if (!forward) {
         for (int dz = -zr; dz <= zr; ++dz)
@@ -817,7 +783,7 @@ std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool f
 
 template <class T, int D>
 std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std::array<std::int64_t, 3>& cell) const {
-    const std::size_t s = (detail::row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & (layout_.slots - 1);
+    const std::size_t s = geometry_.slot_of_cell(cell);
     const std::uint32_t k = occupied_index(s);
     if (k == empty_slot) return {0, 0};
     std::uint32_t b = offsets_[k], e = offsets_[k + 1];
@@ -843,28 +809,28 @@ std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std
 template <class T, int D>
 std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
                                      std::int64_t width, detail::run_image* images) const {
-    const int k = layout_.reach;
+    const int k = geometry_.reach;
     std::size_t n = 0;
-    if (layout_.kind == grid_kind::hashed)  // the same cells, found through the table
+    if (geometry_.kind == grid_kind::hashed)  // the same cells, found through the table
         return hashed_runs(c, true, out);
-    if (layout_.periodic) {
+    if (geometry_.periodic) {
         // Wrapped. With 2k + 1 cells or more on every axis (the caller's condition) the cells
         // c + d are distinct, and of d and -d exactly one lies in the half.
-        auto wrapped = [&](int a, std::int64_t v) { return (v % layout_.dims[a] + layout_.dims[a]) % layout_.dims[a]; };
+        auto wrapped = [&](int a, std::int64_t v) { return (v % geometry_.dims[a] + geometry_.dims[a]) % geometry_.dims[a]; };
         // A candidate wrapped from above sits at d - L: image -1; from below, +1.
-        auto image_of = [&](int a, std::int64_t v) { return std::int8_t(v < 0 ? 1 : v >= layout_.dims[a] ? -1 : 0); };
+        auto image_of = [&](int a, std::int64_t v) { return std::int8_t(v < 0 ? 1 : v >= geometry_.dims[a] ? -1 : 0); };
         auto add = [&](std::uint32_t b, std::uint32_t e, const detail::run_image& image) {
             if (images) append_imaged_run(out, images, n, b, e, image);
             else detail::append_run(out, n, b, e);
         };
         auto add_cells = [&](std::int64_t y, std::int64_t z, std::int64_t from, std::int64_t to) {
-            const std::int64_t row = (wrapped(2, z) * layout_.dims[1] + wrapped(1, y)) * layout_.dims[0];
+            const auto row = std::int64_t(geometry_.slot_of_cell({0, wrapped(1, y), wrapped(2, z)}));
             const std::int64_t a = wrapped(0, from), b = wrapped(0, to);
             const std::int8_t iy = image_of(1, y), iz = D == 3 ? image_of(2, z) : std::int8_t(0);
             if (a <= b) {
                 add(offsets_[row + a], offsets_[row + b + 1], {image_of(0, from), iy, iz});
             } else {
-                add(offsets_[row + a], offsets_[row + layout_.dims[0]], {image_of(0, from), iy, iz});
+                add(offsets_[row + a], offsets_[row + geometry_.dims[0]], {image_of(0, from), iy, iz});
                 add(offsets_[row], offsets_[row + b + 1], {image_of(0, to), iy, iz});
             }
         };
@@ -877,19 +843,19 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
         return n;
     }
     const std::int64_t x0 = std::max<std::int64_t>(0, c[0] - k);
-    const std::int64_t x1 = std::min<std::int64_t>(layout_.dims[0] - 1, c[0] + width - 1 + k);
+    const std::int64_t x1 = std::min<std::int64_t>(geometry_.dims[0] - 1, c[0] + width - 1 + k);
     auto add_row = [&](std::int64_t y, std::int64_t z, std::int64_t from) {
-        const std::int64_t row = (z * layout_.dims[1] + y) * layout_.dims[0];
+        const auto row = std::int64_t(geometry_.slot_of_cell({0, y, z}));
         const std::uint32_t b = offsets_[row + from], e = offsets_[row + x1 + 1];
         if (b < e) out[n++] = {b, e};
     };
     add_row(c[1], c[2], c[0]);  // own cell onwards
-    for (int dy = 1; dy <= k && c[1] + dy < layout_.dims[1]; ++dy) add_row(c[1] + dy, c[2], x0);
+    for (int dy = 1; dy <= k && c[1] + dy < geometry_.dims[1]; ++dy) add_row(c[1] + dy, c[2], x0);
     if constexpr (D == 3) {
-        for (int dz = 1; dz <= k && c[2] + dz < layout_.dims[2]; ++dz)
+        for (int dz = 1; dz <= k && c[2] + dz < geometry_.dims[2]; ++dz)
             for (int dy = -k; dy <= k; ++dy) {
                 const std::int64_t y = c[1] + dy;
-                if (y >= 0 && y < layout_.dims[1]) add_row(y, c[2] + dz, x0);
+                if (y >= 0 && y < geometry_.dims[1]) add_row(y, c[2] + dz, x0);
             }
     }
     return n;

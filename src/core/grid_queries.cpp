@@ -55,15 +55,11 @@ struct query_engine {
     std::vector<std::uint32_t> queries_by_cell(std::span<const T> queries) const {
         const std::size_t n = queries.size() / D, slots = g.cell_count();
         std::vector<std::uint32_t> slot(n);
-        const auto dims = g.cells_per_axis();
         for_each_chunk(n, chunk_count(n, threads, 1 << 14), threads, [&](std::size_t, std::size_t b, std::size_t e) {
             for (std::size_t q = b; q < e; ++q) {
                 std::array<T, D> x;
                 for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
-                const auto c = g.cell_of(x);
-                slot[q] = g.kind() == grid_kind::hashed
-                              ? std::uint32_t((row_hash(c[1], c[2]) + std::uint64_t(c[0])) & (slots - 1))
-                              : std::uint32_t(c[0] + dims[0] * (c[1] + dims[1] * c[2]));
+                slot[q] = std::uint32_t(g.geometry().slot_of_cell(g.cell_of(x)));
             }
         });
         std::vector<std::uint32_t> start(slots + 1, 0);
@@ -395,12 +391,12 @@ std::span<const T> grid<T, D>::search_queries(std::span<const T> queries, std::v
     if (queries.size() % D != 0)
         throw error("query array has " + std::to_string(queries.size()) +
                     " values, not a multiple of the dimension " + std::to_string(D));
-    bool as_given = layout_.scale == 1;
+    bool as_given = geometry_.scale == 1;
     for (std::size_t q = 0; q < queries.size() / D; ++q) {
         point x;
         for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
         check_query_point(x, q);
-        for (int a = 0; a < D; ++a) as_given = as_given && std::abs(double(x[a])) <= layout_.far_bound;
+        for (int a = 0; a < D; ++a) as_given = as_given && std::abs(double(x[a])) <= geometry_.far_bound;
     }
     if (as_given) return queries;
     storage.resize(queries.size());

@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/hashing.hpp"
+#include "frnn/grid_geometry.hpp"
 #include "frnn/grid.hpp"
 
 namespace frnn::detail {
@@ -54,14 +54,15 @@ struct sweep_job {
 };
 
 /// Uniform grid with open boundaries: cell (x, y, z) of a point holds
-/// clamp((x - lo) * inv, 0, top) on every axis (grid::cell_of), its slot x + stride1 y + stride2 z.
+/// clamp((x - lo) * inv, 0, top) on every axis, its slot x + stride1 y + stride2 z
+/// (grid_geometry::cell_of and slot_of_cell).
 struct uniform_frame {
     double lo[3], inv[3], top[3];
     std::uint32_t stride1, stride2;
 };
 
 /// Hashed grid: cell (x, y, z) of a point holds floor(x * inv) on every axis, its slot
-/// (row_hash(y, z) + x) & mask.
+/// hashed_slot(x, y, z, mask) (grid_geometry::cell_of and slot_of_cell).
 struct hashed_frame {
     double inv[3];
     std::uint64_t mask;

@@ -664,7 +664,7 @@ void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std:
         // Walk the cells in order from the first point's: no cell computation per group.
         const auto starts = g.cell_starts();
         const auto dims = g.cells_per_axis();
-        std::size_t slot = std::size_t(cell[0] + dims[0] * (cell[1] + dims[1] * cell[2]));
+        std::size_t slot = g.geometry().slot_of_cell(cell);
         for (std::size_t s = b; s < e;) {
             const std::int64_t width = std::min(group_width, dims[0] - cell[0]);
             const std::size_t end = std::min<std::size_t>(starts[slot + std::size_t(width)], e);
@@ -1047,7 +1047,9 @@ void fill_kept(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std:
 
 template <class T, int D>
 void uniform_slots(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out) {
-    // min/max rather than std::clamp, so that the loop is branch-free and vectorizes.
+    // grid_geometry's cell_of and slot_of_cell in 32-bit lanes (tests/unit/uniform_slots_test
+    // checks that they agree); min/max rather than std::clamp, so that the loop is branch-free
+    // and vectorizes.
     for (std::size_t i = b; i < e; ++i) {
         std::uint32_t cell[3] = {0, 0, 0};
         for (int a = 0; a < D; ++a) {
@@ -1062,12 +1064,9 @@ template <class T, int D>
 void hashed_slots(const T* coords, std::size_t b, std::size_t e, const hashed_frame& f, std::uint32_t* out) {
     for (std::size_t i = b; i < e; ++i) {
         std::int64_t cell[3] = {0, 0, 0};
-        for (int a = 0; a < D; ++a) {
-            const double v = double(coords[i * D + a]) * f.inv[a];
-            const auto whole = std::int64_t(v);  // floor(v): |v| < 2^52 is checked at build
-            cell[a] = whole - std::int64_t(double(whole) > v);
-        }
-        out[i - b] = std::uint32_t((row_hash(cell[1], cell[2]) + std::uint64_t(cell[0])) & f.mask);
+        for (int a = 0; a < D; ++a)  // |v| < 2^52 cells is checked at build
+            cell[a] = floor_to_int(double(coords[i * D + a]) * f.inv[a]);
+        out[i - b] = std::uint32_t(hashed_slot(cell[0], cell[1], cell[2], f.mask));
     }
 }
 

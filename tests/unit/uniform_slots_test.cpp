@@ -1,28 +1,29 @@
-// The build's vector code for the slots of a uniform grid gives, for every point, the cell of
-// the documented formula: per axis trunc(clamp((double(x) - lo) * inv, 0, top)), combined as
+// The build's vector code for the slots of a uniform grid gives, for every point, the slot
+// that grid_geometry gives: per axis trunc(clamp((double(x) - lo) * inv, 0, top)), combined as
 // x + stride1 * y + stride2 * z. Checked on cell borders, points outside the frame, and every
 // batch length around the vector width.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
 
 #include "core/sweep.hpp"
+#include "frnn/grid_geometry.hpp"
 
 namespace {
 
+// The slot that grid_geometry, the definition every other part of the grid uses, gives x.
 template <class T, int D>
-std::uint32_t reference_slot(const T* x, const frnn::detail::uniform_frame& f) {
-    std::uint32_t slot = 0;
-    for (int a = 0; a < D; ++a) {
-        double u = (double(x[a]) - f.lo[a]) * f.inv[a];
-        if (u < 0) u = 0;
-        if (u > f.top[a]) u = f.top[a];
-        slot += (a == 0 ? 1u : a == 1 ? f.stride1 : f.stride2) * std::uint32_t(std::int32_t(u));
-    }
-    return slot;
+std::uint32_t reference_slot(const T* x, const frnn::detail::uniform_frame& f, const std::int64_t* dims) {
+    frnn::grid_geometry<T> g;
+    g.kind = frnn::grid_kind::uniform;
+    for (int a = 0; a < 3; ++a) g.origin[a] = f.lo[a], g.inv_cell[a] = f.inv[a], g.dims[a] = a < D ? dims[a] : 1;
+    std::array<T, D> p;
+    for (int a = 0; a < D; ++a) p[a] = x[a];
+    return std::uint32_t(g.slot_of_cell(g.cell_of(p)));
 }
 
 template <class T, int D>
@@ -63,12 +64,12 @@ void check_slots() {
             out.assign(n + 1, 0xDEADBEEFu);
             kernels.uniform_slots(coords.data(), b, e, f, out.data());
             for (std::size_t i = b; i < e; ++i)
-                ASSERT_EQ(out[i - b], (reference_slot<T, D>(&coords[i * D], f))) << "point " << i << " of [" << b << ", " << e << ")";
+                ASSERT_EQ(out[i - b], (reference_slot<T, D>(&coords[i * D], f, dims))) << "point " << i << " of [" << b << ", " << e << ")";
             ASSERT_EQ(out[len], 0xDEADBEEFu) << "wrote past the batch [" << b << ", " << e << ")";
         }
     }
     kernels.uniform_slots(coords.data(), 0, n, f, out.data());
-    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(out[i], (reference_slot<T, D>(&coords[i * D], f))) << "point " << i;
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(out[i], (reference_slot<T, D>(&coords[i * D], f, dims))) << "point " << i;
 }
 
 }  // namespace
