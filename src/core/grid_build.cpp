@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "core/cell_rules.hpp"
 #include "core/kind_policy.hpp"
 #include "core/sweep.hpp"
 #include "cpu/page_release.hpp"
@@ -177,20 +178,13 @@ grid_geometry<T> grid<T, D>::plan(std::span<const T> coords, T radius, const gri
 
     l.inside_box = l.periodic;
     if (l.periodic) {
-        double cells = 1;
+        double box[3] = {0, 0, 0};
         for (int a = 0; a < D; ++a) {
-            const double box = o.periodic[a] * double(l.scale);
+            box[a] = o.periodic[a] * double(l.scale);
             l.box[a] = T(o.periodic[a]) * l.scale;
             l.inside_box = l.inside_box && lo[a] >= 0 && hi[a] < double(l.box[a]);
-            l.dims[a] = std::max<std::int64_t>(1, std::int64_t(box / cell));
-            cells *= double(l.dims[a]);
         }
-        // Very sparse periodic boxes get larger cells (still >= r, so reach still holds).
-        const double cap = std::max(8.0 * double(n), 4096.0);
-        if (cells > cap) {
-            const double shrink = std::pow(cells / cap, 1.0 / D);
-            for (int a = 0; a < D; ++a) l.dims[a] = std::max<std::int64_t>(1, std::int64_t(double(l.dims[a]) / shrink));
-        }
+        l.dims = detail::periodic_cells(box, D, cell, n);
         l.kind = grid_kind::uniform;
         for (int a = 0; a < D; ++a) {
             l.cell[a] = double(l.box[a]) / double(l.dims[a]);
@@ -198,21 +192,7 @@ grid_geometry<T> grid<T, D>::plan(std::span<const T> coords, T radius, const gri
             l.origin[a] = 0;
         }
     } else {
-        if (o.domain_min.empty() != o.domain_max.empty())
-            throw error("domain needs both domain_min and domain_max");
-        if (!o.domain_min.empty()) {
-            if (o.domain_min.size() != std::size_t(D) || o.domain_max.size() != std::size_t(D))
-                throw error("domain bounds need " + std::to_string(D) + " values each");
-            // Bounds beyond the scaled range of T hold no more points than the range itself.
-            const double limit = double(std::numeric_limits<T>::max());
-            for (int a = 0; a < D; ++a) {
-                if (!std::isfinite(o.domain_min[a]) || !std::isfinite(o.domain_max[a]) ||
-                    o.domain_min[a] > o.domain_max[a])
-                    throw error("domain bounds on axis " + std::to_string(a) + " are not finite and ordered");
-                lo[a] = std::clamp(o.domain_min[a], -limit, limit) * double(l.scale);
-                hi[a] = std::clamp(o.domain_max[a], -limit, limit) * double(l.scale);
-            }
-        }
+        detail::apply_domain(o, D, double(l.scale), double(std::numeric_limits<T>::max()), lo.data(), hi.data(), "");
         detail::kind_question q;
         q.asked = o.kind;
         q.n = n;
@@ -230,13 +210,13 @@ grid_geometry<T> grid<T, D>::plan(std::span<const T> coords, T radius, const gri
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
                         " cells (extent / cell size); use the hashed grid");
         l.kind = kind;
+        if (l.kind == grid_kind::uniform) l.dims = detail::uniform_cells(lo.data(), hi.data(), D, cell);
         double extent = 0;
         for (int a = 0; a < D; ++a) {
             l.cell[a] = cell;
             l.inv_cell[a] = 1.0 / cell;
             if (l.kind == grid_kind::uniform) {
                 l.origin[a] = lo[a];
-                l.dims[a] = std::int64_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
             } else {
                 l.origin[a] = 0;
                 const double far = std::max(std::abs(lo[a]), std::abs(hi[a]));

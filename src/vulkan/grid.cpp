@@ -9,6 +9,7 @@
 #include <new>
 #include <string>
 
+#include "core/cell_rules.hpp"
 #include "core/kind_policy.hpp"
 #include "device.hpp"
 #include "frnn/search_scale.hpp"
@@ -195,22 +196,8 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
                                   const float* hi_in, std::span<const float> points) const {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
-    if (o.domain_min.empty() != o.domain_max.empty())
-        throw error("vulkan::grid::build: domain needs both domain_min and domain_max");
-    if (!o.domain_min.empty()) {
-        if (o.domain_min.size() != std::size_t(dim) || o.domain_max.size() != std::size_t(dim))
-            throw error("vulkan::grid::build: domain bounds need " + std::to_string(dim) + " values each");
-        // Bounds beyond float's range hold no more points than the range itself (as on the CPU).
-        const double limit = double(std::numeric_limits<float>::max());
-        for (int a = 0; a < dim; ++a) {
-            if (!std::isfinite(o.domain_min[a]) || !std::isfinite(o.domain_max[a]) ||
-                o.domain_min[a] > o.domain_max[a])
-                throw error("vulkan::grid::build: domain bounds on axis " + std::to_string(a) +
-                            " are not finite and ordered");
-            lo[a] = std::clamp(o.domain_min[a], -limit, limit) * double(s);
-            hi[a] = std::clamp(o.domain_max[a], -limit, limit) * double(s);
-        }
-    }
+    frnn::detail::apply_domain(o, dim, double(s), double(std::numeric_limits<float>::max()), lo, hi,
+                               "vulkan::grid::build: ");
     const float search_r = r * s;
     const double cell = o.cell_size > 0 ? o.cell_size * double(s) : double(search_r);
     grid_layout l;
@@ -242,12 +229,13 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
             throw error("vulkan::grid::build: a uniform grid over this domain would need " + std::to_string(cells) +
                         " cells, more than one storage buffer of this device holds (" +
                         std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
+        const auto dims = frnn::detail::uniform_cells(lo, hi, dim, cell);
         for (int a = 0; a < dim; ++a) {
             p.inv_cell[a] = float(1.0 / cell);
             // Both kinds count cells from the lower corner: small cell coordinates keep the float
             // rounding (and the search margin that covers it) small.
             p.origin[a] = float(lo[a]);
-            if (l.kind == grid_kind::uniform) p.dims[a] = std::int32_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
+            if (l.kind == grid_kind::uniform) p.dims[a] = std::int32_t(dims[a]);
         }
         if (l.kind == grid_kind::uniform) {
             l.slots = 1;
@@ -275,7 +263,7 @@ void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::
         throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) + " lengths, got " +
                     std::to_string(o.periodic.size()));
     grid_params& p = l.params;
-    double cells = 1;
+    double box[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) {
         const double length = o.periodic[a];
         if (!std::isfinite(length) || length < 2 * double(r) || length > double(std::numeric_limits<float>::max()))
@@ -287,14 +275,10 @@ void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::
         if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(p.box[a]) * 0x1p30)
             throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
                         std::to_string(a));
-        p.dims[a] = std::int32_t(std::max(1.0, std::min(std::floor(length * double(s) / cell), 0x1p30)));
-        cells *= p.dims[a];
+        box[a] = length * double(s);
     }
-    const double cap = std::max(8.0 * double(count), 4096.0);
-    if (cells > cap) {
-        const double shrink = std::pow(cells / cap, 1.0 / dim);
-        for (int a = 0; a < dim; ++a) p.dims[a] = std::max<std::int32_t>(1, std::int32_t(double(p.dims[a]) / shrink));
-    }
+    const auto dims = frnn::detail::periodic_cells(box, dim, cell, count);
+    for (int a = 0; a < dim; ++a) p.dims[a] = std::int32_t(dims[a]);
     l.kind = grid_kind::uniform;
     l.slots = 1;
     for (int a = 0; a < dim; ++a) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "frnn/brute_force.hpp"
 #include "frnn/grid.hpp"
 #include "point_sets.hpp"
 
@@ -135,6 +136,24 @@ void every_kind() {
     geometry_case hashed{"hashed, far outliers", {}};
     hashed.options.kind = grid_kind::hashed;
     check_geometry<T, D>(far, r, hashed);
+}
+
+// A periodic box 10^20 radii long: floor(L / cell) is beyond every integer type's range; the
+// box gets at most 2^30 cells per axis (then fewer, as a sparse box) and the answer is exact.
+TEST(GridGeometry, HugePeriodicBoxHasBoundedCells) {
+    auto pts = uniform_points<double, 3>(500, 0, 6, 8);
+    grid_options o;
+    o.periodic.assign(3, 1e20);
+    const grid<double, 3> g(pts, 1.0, o);
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_GE(g.geometry().dims[a], 1);
+        EXPECT_LE(g.geometry().dims[a], std::int64_t(1) << 30);
+    }
+    EXPECT_LE(g.cell_count(), 4096u);
+    const csr<double> expected = brute_force_lists<double, 3>(pts, pts, 1.0, true, o.periodic);
+    const auto counts = g.count_neighbors();
+    for (std::size_t i = 0; i < counts.size(); ++i)
+        ASSERT_EQ(counts[i], expected.offsets[i + 1] - expected.offsets[i]) << "point " << i;
 }
 
 TEST(GridGeometry, FloatIn3D) { every_kind<float, 3>(); }

@@ -1,0 +1,31 @@
+// How many cells a grid has and over which box: the rules every backend applies when it plans
+// its geometry (the CPU grid's plan in grid_build.cpp and the Vulkan grid's configure), so that
+// both read a domain, size a periodic box and count uniform cells alike. The kind choice is
+// kind_policy.hpp. All in search space (see frnn/search_scale.hpp).
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "frnn/options.hpp"
+
+namespace frnn::detail {
+
+/// When the options give a domain, its bounds times `scale` into lo/hi (each first clamped to
+/// +-limit, the largest value of the points' type: bounds beyond it hold no more points).
+/// Throws frnn::error, its message starting with `who`, when only one bound is given or the
+/// bounds are not `dim` finite, ordered values.
+void apply_domain(const grid_options& o, int dim, double scale, double limit, double* lo, double* hi,
+                  std::string_view who);
+
+/// Cells per axis of a periodic box of lengths box[0, dim): floor(L / cell), at least 1 and at
+/// most 2^30 per axis, then, for sparse boxes, fewer and larger so that the box has at most
+/// max(8 n, 4096) cells (still at least `cell` wide, so the reach still holds).
+std::array<std::int64_t, 3> periodic_cells(const double* box, int dim, double cell, std::size_t n);
+
+/// Cells per axis of a uniform grid over [lo, hi]: floor((hi - lo) / cell) + 1; the caller has
+/// checked that their product is within its limit.
+std::array<std::int64_t, 3> uniform_cells(const double* lo, const double* hi, int dim, double cell);
+
+}  // namespace frnn::detail
