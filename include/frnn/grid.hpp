@@ -294,10 +294,6 @@ private:
     /// Checks the queries and gives them in search space: `queries` itself, or a copy in
     /// `storage` when they need scaling or bringing back (see search_point).
     std::span<const T> search_queries(std::span<const T> queries, std::vector<T>& storage) const;
-    /// Validates a build's input and chooses its geometry, changing nothing; `scaled` receives
-    /// the coordinates in search space when the search scale is not 1.
-    grid_geometry<T> plan(std::span<const T> coords, T radius, const grid_options& options,
-                                std::vector<T>& scaled) const;
     void clear() noexcept;
     void sort_into_cells(std::span<const T> coords);
     void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,

@@ -1,0 +1,203 @@
+// The choice of a grid's geometry (grid_plan.hpp): validation of the input, search scale, kind,
+// cell size, reach, cells per axis or table slots.
+#include "core/grid_plan.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "core/cell_rules.hpp"
+#include "core/kind_policy.hpp"
+#include "core/sweep.hpp"
+#include "cpu/parallel.hpp"
+#include "frnn/error.hpp"
+#include "frnn/search_scale.hpp"
+
+namespace frnn::detail {
+
+namespace {
+
+// Cells are made this much larger than asked so that rounding in the cell computation can
+// never separate two points within r by more than `reach` cells.
+constexpr double cell_margin = 1.0 + 0x1p-20;
+// Cell coordinates beyond this magnitude are rejected: neighbors are found at +-reach, and the
+// coordinates must stay exact in a double.
+constexpr double max_cell_coordinate = 0x1p52;
+// A uniform grid may have at most this many cells when asked for explicitly.
+constexpr double max_uniform_cells = 0x1p31;
+std::string fmt_double(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+}  // namespace
+
+// Validates the input and chooses the geometry: search scale, kind, cell size, reach,
+// dimensions. Changes nothing, so that a build that throws leaves the grid as it was.
+template <class T, int D>
+grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_options& o, std::vector<T>& scaled) {
+    grid_geometry<T> l;
+    if (!std::isfinite(radius) || radius <= 0)
+        throw error("radius must be finite and > 0 (got " + fmt_double(double(radius)) + ")");
+    if (coords.size() % D != 0)
+        throw error("coordinate array has " + std::to_string(coords.size()) +
+                    " values, not a multiple of the dimension " + std::to_string(D));
+    const std::size_t n = coords.size() / D;
+    if (n >= std::numeric_limits<std::uint32_t>::max())
+        throw error("too many points: " + std::to_string(n) + " (at most 2^32 - 2)");
+    const double user_r = double(radius);
+    if (o.cell_size != 0) {
+        const double asked = o.cell_size;
+        if (!std::isfinite(asked) || asked <= 0)
+            throw error("cell size must be finite and > 0 (got " + fmt_double(asked) + ")");
+        if (asked > user_r * (1 + 1e-12))
+            throw error("cell size " + fmt_double(asked) + " is larger than the radius " + fmt_double(user_r));
+        if (asked < user_r / 4 * (1 - 1e-12))
+            throw error("cell size " + fmt_double(asked) + " is smaller than radius/4 = " + fmt_double(user_r / 4));
+    }
+    const int threads = resolve_threads(o.threads);
+
+    // Finite coordinates, and the bounding box (first bad index reported).
+    std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    {
+        const std::size_t parts = chunk_count(n, threads, 1 << 15);
+        std::vector<std::size_t> first_bad(parts, n);
+        std::vector<std::array<double, 6>> box(parts);
+        for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+            T mn[D], mx[D], nonfinite[D];
+            sweep_for_cpu<T, D>().bounds(coords.data(), b, e, mn, mx, nonfinite);
+            std::array<double, 6> bb;
+            for (int a = 0; a < 3; ++a) bb[a] = INFINITY, bb[3 + a] = -INFINITY;
+            for (int a = 0; a < D; ++a) {
+                bb[a] = double(mn[a]), bb[3 + a] = double(mx[a]);
+                if (nonfinite[a] != 0) {
+                    for (std::size_t i = b; i < e && first_bad[c] == n; ++i)
+                        for (int k = 0; k < D; ++k)
+                            if (!std::isfinite(coords[i * D + k])) first_bad[c] = i;
+                }
+            }
+            box[c] = bb;
+        });
+        for (std::size_t c = 0; c < parts; ++c) {
+            if (first_bad[c] < n)
+                throw error("point " + std::to_string(first_bad[c]) + " has a non-finite coordinate");
+        }
+        for (int a = 0; a < D; ++a) {
+            lo[a] = INFINITY, hi[a] = -INFINITY;
+            for (const auto& bb : box) lo[a] = std::min(lo[a], bb[a]), hi[a] = std::max(hi[a], bb[3 + a]);
+            if (n == 0) lo[a] = hi[a] = 0;
+        }
+    }
+
+    l.periodic = !o.periodic.empty();
+    if (l.periodic) {
+        if (o.periodic.size() != std::size_t(D))
+            throw error("periodic box needs " + std::to_string(D) + " lengths, got " +
+                        std::to_string(o.periodic.size()));
+        for (int a = 0; a < D; ++a) {
+            const double box = o.periodic[a];
+            if (!std::isfinite(box) || box < 2 * user_r || box > double(std::numeric_limits<T>::max()))
+                throw error("periodic box length " + fmt_double(box) + " on axis " + std::to_string(a) +
+                            " is smaller than twice the radius (" + fmt_double(2 * user_r) +
+                            ") or not a finite value of the points' type");
+            if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
+                throw error("a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
+        }
+    }
+
+    // The search scale: coordinates, radius, cell size and box in search space from here on.
+    T largest = 0;
+    for (int a = 0; a < D; ++a) largest = std::max(largest, T(std::max(std::abs(lo[a]), std::abs(hi[a]))));
+    largest = std::max(largest, largest_magnitude<T>({}, o.periodic));
+    l.scale = frnn::search_scale<T>(radius, largest);
+    l.search_radius = radius * l.scale;
+    if (l.scale != 1) {
+        scaled.resize(coords.size());
+        for_each_chunk(coords.size(), chunk_count(coords.size(), threads, 1 << 16), threads,
+                               [&](std::size_t, std::size_t b, std::size_t e) {
+                                   for (std::size_t i = b; i < e; ++i) scaled[i] = coords[i] * l.scale;
+                               });
+        coords = scaled;
+        for (int a = 0; a < D; ++a) lo[a] = double(T(lo[a]) * l.scale), hi[a] = double(T(hi[a]) * l.scale);
+    }
+    const double r = double(l.search_radius);
+    const double cell = (o.cell_size == 0 ? r : o.cell_size * double(l.scale)) * cell_margin;
+    l.reach = int(std::ceil(r / cell));
+
+    l.inside_box = l.periodic;
+    if (l.periodic) {
+        double box[3] = {0, 0, 0};
+        for (int a = 0; a < D; ++a) {
+            box[a] = o.periodic[a] * double(l.scale);
+            l.box[a] = T(o.periodic[a]) * l.scale;
+            l.inside_box = l.inside_box && lo[a] >= 0 && hi[a] < double(l.box[a]);
+        }
+        l.dims = periodic_cells(box, D, cell, n);
+        l.kind = grid_kind::uniform;
+        for (int a = 0; a < D; ++a) {
+            l.cell[a] = double(l.box[a]) / double(l.dims[a]);
+            l.inv_cell[a] = double(l.dims[a]) / double(l.box[a]);
+            l.origin[a] = 0;
+        }
+    } else {
+        apply_domain(o, D, double(l.scale), double(std::numeric_limits<T>::max()), lo.data(), hi.data(), "");
+        kind_question q;
+        q.asked = o.kind;
+        q.n = n;
+        for (int a = 0; a < D; ++a) q.lo[a] = lo[a], q.hi[a] = hi[a];
+        q.explicit_domain = !o.domain_min.empty();
+        q.cell = cell;
+        q.radius = r;
+        q.hashed_key_limit = max_cell_coordinate;
+        q.uniform_cell_limit = max_uniform_cells;
+        const kind_answer choice = choose_kind<T, D>(q, coords, threads);
+        const grid_kind kind = choice.kind;
+        const double cells = choice.cells;
+        for (int a = 0; a < D; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
+        if (kind == grid_kind::uniform && !(cells <= max_uniform_cells))
+            throw error("a uniform grid over this domain would need " + fmt_double(cells) +
+                        " cells (extent / cell size); use the hashed grid");
+        l.kind = kind;
+        if (l.kind == grid_kind::uniform) l.dims = uniform_cells(lo.data(), hi.data(), D, cell);
+        double extent = 0;
+        for (int a = 0; a < D; ++a) {
+            l.cell[a] = cell;
+            l.inv_cell[a] = 1.0 / cell;
+            if (l.kind == grid_kind::uniform) {
+                l.origin[a] = lo[a];
+            } else {
+                l.origin[a] = 0;
+                const double far = std::max(std::abs(lo[a]), std::abs(hi[a]));
+                if (far * l.inv_cell[a] >= max_cell_coordinate)
+                    throw error("coordinates too far out for the hashed grid: |" +
+                                fmt_double(far / double(l.scale)) + "| on axis " + std::to_string(a) +
+                                " is more than 2^52 cells from the origin");
+                extent = std::max(extent, far);
+            }
+        }
+        // Queries farther out than every point by the stencil and a cell have no neighbors.
+        if (l.kind == grid_kind::hashed) l.far_bound = extent + (l.reach + 2) * cell;
+    }
+    if (l.kind == grid_kind::uniform) {
+        l.slots = 1;
+        for (int a = 0; a < D; ++a) l.slots *= std::size_t(l.dims[a]);
+    } else {
+        l.slots = std::bit_ceil(std::max<std::size_t>(n, 64));
+    }
+    return l;
+}
+
+template grid_geometry<float> plan_geometry<float, 2>(std::span<const float>, float, const grid_options&,
+                                                      std::vector<float>&);
+template grid_geometry<float> plan_geometry<float, 3>(std::span<const float>, float, const grid_options&,
+                                                      std::vector<float>&);
+template grid_geometry<double> plan_geometry<double, 2>(std::span<const double>, double, const grid_options&,
+                                                        std::vector<double>&);
+template grid_geometry<double> plan_geometry<double, 3>(std::span<const double>, double, const grid_options&,
+                                                        std::vector<double>&);
+
+}  // namespace frnn::detail
