@@ -55,6 +55,7 @@ struct cell_range {
     cell_index first{}, last{};
 };
 
+/// The geometry of a grid over coordinates of type T (see above); grid::geometry() gives it.
 template <class T>
 struct grid_geometry {
     grid_kind kind = grid_kind::uniform;  ///< never automatic

@@ -3,11 +3,10 @@
 // When another process takes a core, the kernel often places a woken worker on its caller's CPU
 // (that CPU looks the less loaded one), and then two threads of one call share a core while the
 // busy process has the other to itself, until the load balancer moves one of them milliseconds
-// later. Measured on 2 cores with one busy thread, 1M points: pair counts took 1.30-1.37x their
-// quiet time and lists 1.50-1.58x with placement left to the kernel, 1.22-1.37x and 1.29-1.34x
-// with this rule. So a worker that finds a thread before it in its job (the caller is thread 0)
-// on its own CPU narrows its own affinity (never the caller's) to the CPUs it was allowed minus
-// those of the job's other threads. Only when the job has no more threads than there are CPUs.
+// later (docs/PERFORMANCE.md, "Speed under load", has the figures with and without this rule).
+// So a worker that finds a thread before it in its job (the caller is thread 0) on its own CPU
+// narrows its own affinity (never the caller's) to the CPUs it was allowed minus those of the
+// job's other threads. Only when the job has no more threads than there are CPUs.
 #pragma once
 #ifdef __linux__
 #include <sched.h>

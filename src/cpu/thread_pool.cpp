@@ -26,7 +26,7 @@
 #include <thread>
 #include <vector>
 
-#include "cpu_spread.hpp"
+#include "cpu/cpu_spread.hpp"
 #include "frnn/error.hpp"
 #include "frnn/parallel.hpp"
 
