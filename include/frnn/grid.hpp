@@ -25,7 +25,6 @@
 // concurrently with anything else on the same grid.
 #pragma once
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -34,6 +33,8 @@
 
 #include "frnn/buffer.hpp"
 #include "frnn/csr.hpp"
+#include "frnn/detail/candidate_runs.hpp"
+#include "frnn/detail/grid_storage.hpp"
 #include "frnn/error.hpp"
 #include "frnn/grid_geometry.hpp"
 #include "frnn/options.hpp"
@@ -42,63 +43,8 @@
 namespace frnn {
 
 namespace detail {
-/// A run [begin, end) of sorted points to test: the points of one or more whole cells.
-struct candidate_run {
-    std::uint32_t begin, end;
-};
-/// Appends run [b, e) to out[0, n), merging it into the last run when they touch.
-inline void append_run(candidate_run* out, std::size_t& n, std::uint32_t b, std::uint32_t e) {
-    if (b == e) return;
-    if (n > 0 && out[n - 1].end == b) out[n - 1].end = e;
-    else out[n++] = {b, e};
+struct grid_access;
 }
-/// A run of a periodic stencil: per axis, the multiple of the box length that the minimum
-/// image subtracts from d = candidate - point for every candidate of the run and every point
-/// of the stencil's cell (-1, 0 or 1; exact only where the grid says so, see
-/// grid::images_exact).
-using run_image = std::array<std::int8_t, 3>;
-/// Upper bound of runs around one point: (2k+1)^d with k <= 4.
-inline constexpr std::size_t max_runs = 729;
-/// Extra values after the last sorted coordinate, so vector loads never leave the array.
-inline constexpr std::size_t coordinate_padding = 16;
-
-/// Hashed grid: which of 32 table slots hold points (bit k for slot 32 w + k), and how many
-/// slots before them do. An occupied slot's index among the occupied ones is one popcount away,
-/// so the table stores a start only per occupied slot (4 bytes each, not 4 per slot).
-struct occupied_slots {
-    std::uint32_t bits;
-    std::uint32_t before;
-};
-
-/// The inverse of a grid's permutation, computed on first use: most uses never need it, so the
-/// build neither writes it nor keeps its 4 bytes per point. Safe to call concurrently.
-class lazy_inverse {
-public:
-    lazy_inverse() = default;
-    lazy_inverse(const lazy_inverse& other) { *this = other; }
-    lazy_inverse& operator=(const lazy_inverse& other);
-    /// The inverse of `perm`, computed with `threads` threads if not yet known.
-    std::span<const std::uint32_t> get(std::span<const std::uint32_t> perm, int threads) const;
-    /// Forgets the map after a rebuild; its memory is kept for the next use.
-    void invalidate() { ready_.store(false, std::memory_order_release); }
-    std::size_t capacity_bytes() const { return map_.capacity() * sizeof(std::uint32_t); }
-
-private:
-    mutable buffer<std::uint32_t> map_;
-    mutable std::atomic<bool> ready_{false};
-};
-
-/// Memory a grid keeps between its builds for their scratch (the system may take it back in
-/// between, see free_lazily). A copy of the grid starts without it.
-struct build_scratch {
-    buffer<std::byte> bytes;
-    build_scratch() = default;
-    build_scratch(const build_scratch&) {}
-    build_scratch& operator=(const build_scratch&) { return *this; }
-    build_scratch(build_scratch&&) = default;
-    build_scratch& operator=(build_scratch&&) = default;
-};
-}  // namespace detail
 
 template <class T, int D>
 class grid {
@@ -138,7 +84,6 @@ public:
     /// caller's coordinates times this.
     T search_scale() const { return geometry_.scale; }
     T search_radius() const { return geometry_.search_radius; }  ///< radius() * search_scale()
-    T search_box(int axis) const { return geometry_.box[axis]; }  ///< periodic box length, search space
 
     /// sorted_to_original()[s] is the caller's index of the s-th point in cell order.
     std::span<const std::uint32_t> sorted_to_original() const { return perm_; }
@@ -147,12 +92,6 @@ public:
     std::span<const std::uint32_t> original_to_sorted() const { return inverse_.get(perm_, threads()); }
     /// Coordinate `axis` of the s-th point in cell order, as the caller gave it.
     T sorted_coord(std::size_t s, int axis) const { return geometry_.scale == 1 ? pos_[axis][s] : input_pos_[axis][s]; }
-    /// All coordinates on `axis` in cell order, in search space (size() values, then
-    /// detail::coordinate_padding zeros): the caller's when search_scale() is 1.
-    const T* search_coords(int axis) const { return pos_[axis].data(); }
-    T search_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
-    /// Sorted points [s, end) lie in one cell and share their candidate runs.
-    std::uint32_t cell_group_end(std::uint32_t s) const;
 
     /// Calls f(j, distance_squared) for every neighbor j of point i (caller's indices).
     /// Squared distances beyond T's range (extreme radii only) read +infinity.
@@ -204,8 +143,17 @@ public:
     template <class U>
     void restore_order(std::span<U> data, std::size_t components = 1) const;
 
-    /// The runs of sorted points whose cells lie within reach of x, in search space (internal,
-    /// but public so that other backends and bindings can share one traversal).
+private:
+    friend struct detail::grid_access;  // frnn's sweeps, queries and tests (src/core/grid_access.hpp)
+
+    // Traversal, for frnn's own sweeps and backends through detail::grid_access.
+    /// All coordinates on `axis` in cell order, in search space (size() values, then
+    /// detail::coordinate_padding zeros): the caller's when search_scale() is 1.
+    const T* search_coords(int axis) const { return pos_[axis].data(); }
+    T search_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
+    /// Sorted points [s, end) lie in one cell and share their candidate runs.
+    std::uint32_t cell_group_end(std::uint32_t s) const;
+    /// The runs of sorted points whose cells lie within reach of x, in search space.
     std::size_t candidate_runs(const point& x, detail::candidate_run* out) const {
         return size() == 0 ? 0 : stencil_runs(cell_of(x), out);
     }
@@ -229,11 +177,9 @@ public:
     /// image of every pair within r of grid points: all points inside the box, and at least
     /// 2 reach + 3 cells per axis (then another image lies more than r away).
     bool images_exact() const;
-    /// Cells per axis of the uniform grid (1 on unused axes); cell (x, y, z) is number
-    /// x + nx * (y + ny * z). Uniform grid: cell c holds the sorted points
+    /// Uniform grid: cell c (geometry().slot_of_cell) holds the sorted points
     /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table
     /// slots only, in slot order, then size().
-    std::array<std::int64_t, 3> cells_per_axis() const { return geometry_.dims; }
     std::span<const std::uint32_t> cell_starts() const { return offsets_; }
     /// Distance squared between x and sorted point j, in search space, with the minimum image
     /// when periodic.
@@ -266,7 +212,7 @@ public:
         return true;
     }
 
-private:
+    // Queries and building.
     point sorted_point(std::uint32_t s) const {
         point p;
         for (int a = 0; a < D; ++a) p[a] = pos_[a][s];

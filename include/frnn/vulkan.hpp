@@ -110,9 +110,14 @@ public:
     void upload(buffer_view dst, const void* data, std::size_t bytes);
     void download(buffer_view src, void* data, std::size_t bytes) const;
 
+private:
+    // frnn's own Vulkan classes reach the device behind the context; users never need it.
+    friend class device_buffer;
+    friend class kernel;
+    template <int D>
+    friend class grid;
     detail::device& impl() const { return *impl_; }
 
-private:
     std::unique_ptr<detail::device> impl_;
 };
 
@@ -204,7 +209,6 @@ public:
     std::uint32_t shader_kind() const;
 
     context& owner() const;
-    detail::grid_state& state() const { return *state_; }
 
 private:
     std::unique_ptr<detail::grid_state> state_;

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/grid_access.hpp"
 #include "core/kept_hits.hpp"
 #include "core/slab_schedule.hpp"
 #include "core/sweep.hpp"
@@ -59,7 +60,7 @@ struct query_engine {
             for (std::size_t q = b; q < e; ++q) {
                 std::array<T, D> x;
                 for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
-                slot[q] = std::uint32_t(g.geometry().slot_of_cell(g.cell_of(x)));
+                slot[q] = std::uint32_t(g.geometry().slot_of_cell(g.geometry().cell_of(x)));
             }
         });
         std::vector<std::uint32_t> start(slots + 1, 0);
@@ -131,7 +132,7 @@ struct query_engine {
         job.half = half;
         job.ids = ids;
         job.counts = counts;
-        const auto dims = g.cells_per_axis();
+        const auto dims = g.geometry().dims;
         if (g.periodic()) {
             // The wrapped forward half-stencil meets each pair of cells once only when every
             // axis has 2 reach + 1 cells or more; smaller boxes count per point.
@@ -169,7 +170,7 @@ struct query_engine {
         const auto slabs = layer_slabs(std::size_t(dims[D - 1]), std::size_t(g.reach()), threads);
         const std::size_t n = slabs.size();
         const std::size_t per_layer = D == 3 ? std::size_t(dims[0] * dims[1]) : std::size_t(dims[0]);
-        const auto starts = g.cell_starts();
+        const auto starts = grid_access::cell_starts(g);
         auto first_point = [&](std::size_t layer) { return std::size_t(starts[layer * per_layer]); };
         // Slab k spills into the points [into[k], into[k] + size) at spill[at[k]...): the
         // `reach` layers after it, or the last slab of a periodic box the first `reach` layers.

@@ -13,8 +13,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "frnn/grid_geometry.hpp"
+#include "core/grid_access.hpp"
 #include "frnn/grid.hpp"
+#include "frnn/grid_geometry.hpp"
 
 namespace frnn::detail {
 

@@ -79,7 +79,7 @@ struct candidate_block {
         std::uint32_t m = 0;
         for (std::size_t k = 0; k < nruns; ++k) {
             const std::uint32_t len = runs[k].end - runs[k].begin;
-            for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, g.search_coords(a) + runs[k].begin, len);
+            for (int a = 0; a < D; ++a) copy_padded(dst[a] + m, grid_access::search_coords(g, a) + runs[k].begin, len);
             m += len;
         }
         size = m;
@@ -542,7 +542,7 @@ struct pair_counter {
     void sweep(std::uint32_t gb, std::uint32_t ge, const candidate_run* runs, const run_image* images, std::size_t nruns,
                std::uint32_t* counts, const partner_sink& partners) const {
         const T* x[D];
-        for (int a = 0; a < D; ++a) x[a] = g.search_coords(a) + gb;
+        for (int a = 0; a < D; ++a) x[a] = grid_access::search_coords(g, a) + gb;
         // Half: the ids of the group's points.
         std::uint32_t point_ids[Half ? 64 : 1];
         if constexpr (Half) {
@@ -551,7 +551,7 @@ struct pair_counter {
         }
         for (std::size_t r = 0; r < nruns; ++r) {
             run_view v;
-            for (int a = 0; a < D; ++a) v.c[a] = g.search_coords(a) + runs[r].begin;
+            for (int a = 0; a < D; ++a) v.c[a] = grid_access::search_coords(g, a) + runs[r].begin;
             if constexpr (Wrap == wrap_mode::shift)
                 for (int a = 0; a < D; ++a) v.shift[a] = T(images[r][a]) * box[a];
             v.begin = runs[r].begin;
@@ -658,12 +658,12 @@ template <class T, int D, class F>
 void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std::int64_t group_width, F&& f) {
     if (b >= e) return;
     std::array<T, D> x;
-    for (int a = 0; a < D; ++a) x[a] = g.search_coord(b, a);
-    auto cell = g.cell_of(x);
+    for (int a = 0; a < D; ++a) x[a] = grid_access::search_coord(g, b, a);
+    auto cell = g.geometry().cell_of(x);
     if (g.kind() == grid_kind::uniform) {
         // Walk the cells in order from the first point's: no cell computation per group.
-        const auto starts = g.cell_starts();
-        const auto dims = g.cells_per_axis();
+        const auto starts = grid_access::cell_starts(g);
+        const auto dims = g.geometry().dims;
         std::size_t slot = g.geometry().slot_of_cell(cell);
         for (std::size_t s = b; s < e;) {
             const std::int64_t width = std::min(group_width, dims[0] - cell[0]);
@@ -681,9 +681,9 @@ void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std:
         return;
     }
     for (std::size_t s = b; s < e;) {
-        for (int a = 0; a < D; ++a) x[a] = g.search_coord(s, a);
-        const std::size_t end = std::min<std::size_t>(g.cell_group_end(std::uint32_t(s)), e);
-        f(std::uint32_t(s), std::uint32_t(end), g.cell_of(x), std::int64_t(1));
+        for (int a = 0; a < D; ++a) x[a] = grid_access::search_coord(g, s, a);
+        const std::size_t end = std::min<std::size_t>(grid_access::cell_group_end(g, std::uint32_t(s)), e);
+        f(std::uint32_t(s), std::uint32_t(end), g.geometry().cell_of(x), std::int64_t(1));
         s = end;
     }
 }
@@ -718,8 +718,8 @@ struct sweeper {
     sweeper(const grid<T, D>& gr, const sweep_job<T>& j)
         : g(gr), job(j), r2(gr.search_radius() * gr.search_radius()), group_width(group_width_for(gr)) {
         if constexpr (Periodic) {
-            for (int a = 0; a < D; ++a) box[a] = gr.search_box(a);
-            shifts = !job.queries && gr.images_exact();
+            for (int a = 0; a < D; ++a) box[a] = gr.geometry().box[a];
+            shifts = !job.queries && grid_access::images_exact(gr);
         }
     }
 
@@ -729,7 +729,7 @@ struct sweeper {
             const T* q = job.queries + std::size_t(job.query_order[s]) * D;
             for (int a = 0; a < D; ++a) x[a] = q[a];
         } else {
-            for (int a = 0; a < D; ++a) x[a] = g.search_coord(s, a);
+            for (int a = 0; a < D; ++a) x[a] = grid_access::search_coord(g, s, a);
         }
         return x;
     }
@@ -745,9 +745,9 @@ struct sweeper {
     void for_each_group(std::size_t b, std::size_t e, F&& f) const {
         if (!job.queries) return for_each_cell_group(g, b, e, group_width, f);
         for (std::size_t s = b; s < e;) {
-            const auto cell = g.cell_of(point(std::uint32_t(s)));
+            const auto cell = g.geometry().cell_of(point(std::uint32_t(s)));
             std::size_t end = s + 1;
-            while (end < e && g.cell_of(point(std::uint32_t(end))) == cell) ++end;
+            while (end < e && g.geometry().cell_of(point(std::uint32_t(end))) == cell) ++end;
             f(std::uint32_t(s), std::uint32_t(end), cell, std::int64_t(1));
             s = end;
         }
@@ -781,8 +781,8 @@ struct sweeper {
     /// |d| < (k + 1) cells < box / 2 on every axis, so nearbyint(d / box) = 0.
     bool wraps(const std::array<std::int64_t, 3>& cell) const {
         if constexpr (!Periodic) return false;
-        if (!g.points_inside_box()) return true;
-        const auto dims = g.cells_per_axis();
+        if (!grid_access::points_inside_box(g)) return true;
+        const auto dims = g.geometry().dims;
         const int k = g.reach();
         for (int a = 0; a < D; ++a)
             if (dims[a] < 2 * k + 3 || cell[a] < k || cell[a] + k >= dims[a]) return true;
@@ -792,7 +792,7 @@ struct sweeper {
     /// The cell's stencil into the block (without ids unless with_ids), with its shifts
     /// where grid points wrap by them.
     void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width, bool with_ids = true) {
-        nruns = g.stencil_runs(cell, runs, width, Periodic ? images : nullptr);
+        nruns = grid_access::stencil_runs(g, cell, runs, width, Periodic ? images : nullptr);
         block.gather(g, runs, nruns, job.ids, with_ids);
         if (shifts && wraps(cell)) block.gather_shifts(runs, images, nruns, box);
     }
@@ -856,7 +856,7 @@ struct sweeper {
         if (job.spill_before) partners.b = b, partners.before = job.spill_before;
         const pair_counter<T, D, Periodic> counter{g, r2, box, job.half, job.ids};
         for_each_cell_group(g, b, e, group_width, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            nruns = g.forward_runs(cell, runs, width, shifts ? images : nullptr);
+            nruns = grid_access::forward_runs(g, cell, runs, width, shifts ? images : nullptr);
             counter.count(gb, ge, runs, shifts ? images : nullptr, nruns, wraps(cell), job.counts, partners);
         });
     }
@@ -934,7 +934,7 @@ struct sweeper {
         std::size_t bytes = 0;
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             if (bytes > limit) return;  // the caller gives up: no more stencil lookups
-            nruns = g.stencil_runs(cell, runs, width);
+            nruns = grid_access::stencil_runs(g, cell, runs, width);
             std::uint32_t total = 0;
             for (std::size_t k = 0; k < nruns; ++k) total += runs[k].end - runs[k].begin;
             bytes += std::size_t(ge - gb) * (candidate_block<T, D>::padded_size(total) / kernel::L::n) * sizeof(hit_word);
@@ -968,7 +968,7 @@ struct sweeper {
         // Half rows in id order by block position: the vectors before the point's hold no hit.
         const bool from_position = job.half && !job.queries && positions_in_id_order();
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            nruns = g.stencil_runs(cell, runs, width);
+            nruns = grid_access::stencil_runs(g, cell, runs, width);
             block.gather_ids(runs, nruns, job.ids);
             const std::uint32_t padded = block.padded;
             const std::uint32_t* __restrict ids = block.id.data();

@@ -263,7 +263,7 @@ void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::
         throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) + " lengths, got " +
                     std::to_string(o.periodic.size()));
     grid_params& p = l.params;
-    double box[3] = {0, 0, 0};
+    double search_box[3] = {0, 0, 0};
     for (int a = 0; a < dim; ++a) {
         const double length = o.periodic[a];
         if (!std::isfinite(length) || length < 2 * double(r) || length > double(std::numeric_limits<float>::max()))
@@ -275,9 +275,9 @@ void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::
         if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(p.box[a]) * 0x1p30)
             throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
                         std::to_string(a));
-        box[a] = length * double(s);
+        search_box[a] = length * double(s);
     }
-    const auto dims = frnn::detail::periodic_cells(box, dim, cell, count);
+    const auto dims = frnn::detail::periodic_cells(search_box, dim, cell, count);
     for (int a = 0; a < dim; ++a) p.dims[a] = std::int32_t(dims[a]);
     l.kind = grid_kind::uniform;
     l.slots = 1;

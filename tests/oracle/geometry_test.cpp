@@ -12,9 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "core/grid_access.hpp"
 #include "frnn/brute_force.hpp"
 #include "frnn/grid.hpp"
 #include "point_sets.hpp"
+
+using frnn::detail::grid_access;  // the grid's traversal internals
 
 namespace frnn::test {
 namespace {
@@ -31,7 +34,7 @@ std::set<std::uint32_t> points_in_range(const grid<T, D>& g, const cell_range& r
     std::set<std::uint32_t> out;
     for (std::uint32_t s = 0; s < g.size(); ++s) {
         std::array<T, D> p;
-        for (int a = 0; a < D; ++a) p[a] = g.search_coord(s, a);
+        for (int a = 0; a < D; ++a) p[a] = grid_access::search_coord(g, s, a);
         const cell_index c = geo.cell_of(p);
         bool inside = true;
         for (int a = 0; a < D && inside; ++a) {
@@ -60,15 +63,15 @@ void check_geometry(const std::vector<T>& pts, T radius, const geometry_case& gc
     // cell_of against the cell that holds each point, and the cell's corners around it.
     for (std::uint32_t s = 0; s < g.size(); ++s) {
         std::array<T, D> p;
-        for (int a = 0; a < D; ++a) p[a] = g.search_coord(s, a);
+        for (int a = 0; a < D; ++a) p[a] = grid_access::search_coord(g, s, a);
         const cell_index c = geo.cell_of(p);
         if (geo.kind == grid_kind::uniform) {
             const std::size_t slot = geo.slot_of_cell(c);
             ASSERT_LT(slot, geo.slots);
-            ASSERT_GE(s, g.cell_starts()[slot]) << "point " << s;
-            ASSERT_LT(s, g.cell_starts()[slot + 1]) << "point " << s;
+            ASSERT_GE(s, grid_access::cell_starts(g)[slot]) << "point " << s;
+            ASSERT_LT(s, grid_access::cell_starts(g)[slot + 1]) << "point " << s;
         } else {
-            ASSERT_TRUE(g.hashed_point_in_cell(s, c)) << "point " << s;
+            ASSERT_TRUE(grid_access::hashed_point_in_cell(g, s, c)) << "point " << s;
         }
         const auto bounds = geo.cell_bounds(c);
         const bool in_domain = geo.kind == grid_kind::hashed || geo.periodic ||
@@ -92,10 +95,10 @@ void check_geometry(const std::vector<T>& pts, T radius, const geometry_case& gc
     for (std::size_t q = 0; q < queries.size() / D; ++q) {
         std::array<T, D> x;
         for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
-        const std::array<T, D> y = g.search_point(x, q);
+        const std::array<T, D> y = grid_access::search_point(g, x, q);
         const cell_range range = geo.cells_within(y);
         detail::candidate_run runs[detail::max_runs];
-        const std::size_t n = g.candidate_runs(y, runs);
+        const std::size_t n = grid_access::candidate_runs(g, y, runs);
         std::set<std::uint32_t> searched;
         for (std::size_t k = 0; k < n; ++k)
             for (std::uint32_t j = runs[k].begin; j < runs[k].end; ++j) searched.insert(j);

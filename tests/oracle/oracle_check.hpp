@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/grid_access.hpp"
 #include "frnn/brute_force.hpp"
 #include "frnn/grid.hpp"
 
@@ -237,10 +238,10 @@ std::string check_structure(const grid<T, D>& g, std::span<const T> coords) {
     // Each point lies in the cell of its run (whose end it finds), and the sort is stable:
     // within each cell the points keep the caller's order.
     for (std::uint32_t s = 0; s < n;) {
-        const std::uint32_t e = g.cell_group_end(s);
+        const std::uint32_t e = frnn::detail::grid_access::cell_group_end(g, s);
         if (e <= s || e > n) return "cell_group_end(" + std::to_string(s) + ") = " + std::to_string(e);
         for (std::uint32_t j = s + 1; j < e; ++j) {
-            if (g.cell_group_end(j) != e) return "sorted point " + std::to_string(j) + " lies outside its run's cell";
+            if (frnn::detail::grid_access::cell_group_end(g, j) != e) return "sorted point " + std::to_string(j) + " lies outside its run's cell";
             if (perm[j] < perm[j - 1]) return "points of a cell out of the caller's order at " + std::to_string(j);
         }
         s = e;

@@ -4,7 +4,10 @@
 #include <random>
 #include <set>
 
+#include "core/grid_access.hpp"
 #include "frnn/frnn.hpp"
+
+using frnn::detail::grid_access;  // the grid's traversal internals
 
 namespace {
 
@@ -63,8 +66,8 @@ TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_sh
     o.cell_size = 0.2;
     frnn::grid<double, 3> g(p, 0.8, o);
     std::set<std::array<std::int64_t, 3>> cells;
-    for (std::size_t i = 0; i < 3000; ++i) cells.insert(g.cell_of({p[3 * i], p[3 * i + 1], p[3 * i + 2]}));
-    const std::size_t occupied = g.cell_starts().size() - 1;  // one start per occupied slot
+    for (std::size_t i = 0; i < 3000; ++i) cells.insert(g.geometry().cell_of(std::array<double, 3>{p[3 * i], p[3 * i + 1], p[3 * i + 2]}));
+    const std::size_t occupied = grid_access::cell_starts(g).size() - 1;  // one start per occupied slot
     ASSERT_LT(occupied + 500, cells.size());  // many slots are shared
     EXPECT_EQ(g.nonempty_cells(), cells.size());
     const auto ref = frnn::brute_force_lists<double, 3>(p, p, 0.8, true);
@@ -95,8 +98,8 @@ TEST(grid_basics, hashed_grid_of_clusters_keeps_starts_of_occupied_slots_only) {
     frnn::grid<double, 3> g(p, 1.0, o);
     ASSERT_GE(g.cell_count(), n);
     // One start per occupied slot (a few slots hold two cells).
-    EXPECT_LE(g.cell_starts().size() - 1, g.nonempty_cells());
-    EXPECT_GT(g.cell_starts().size() - 1, g.nonempty_cells() * 9 / 10);
+    EXPECT_LE(grid_access::cell_starts(g).size() - 1, g.nonempty_cells());
+    EXPECT_GT(grid_access::cell_starts(g).size() - 1, g.nonempty_cells() * 9 / 10);
     const std::size_t points = (n + frnn::detail::coordinate_padding) * 3 * sizeof(double) + n * sizeof(std::uint32_t);
     EXPECT_LT(g.memory_bytes() - points, n);
     // The same after a rebuild over other points: the table of every slot is built and freed again.
