@@ -1,0 +1,142 @@
+// What a Vulkan grid build will set up, computed and checked before anything changes: the
+// kind (the CPU grid's policy), the cells of the open or periodic box, the search scale.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/cell_rules.hpp"
+#include "core/kind_policy.hpp"
+#include "frnn/search_scale.hpp"
+#include "grid_state.hpp"
+
+namespace frnn::vulkan::detail {
+
+// `automatic`: the CPU grid's policy (core/kind_policy.hpp); the hashed grid here has no key
+// limit (it clamps cell coordinates at 2^30, which only merges far cells). lo/hi: the bounding
+// box in search units (already multiplied by s); `points`: the scaled points when they are on
+// the host (empty: no bulk box is tried). Changes nothing.
+grid_layout grid_state::configure(const grid_options& o, std::size_t count, float r, float s, const float* lo_in,
+                                  const float* hi_in, std::span<const float> points) const {
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
+    frnn::detail::apply_domain(o, dim, double(s), double(std::numeric_limits<float>::max()), lo, hi,
+                               "vulkan::grid::build: ");
+    const float search_r = r * s;
+    const double cell = o.cell_size > 0 ? o.cell_size * double(s) : double(search_r);
+    grid_layout l;
+    grid_params& p = l.params;
+    for (int a = 0; a < 4; ++a) p.dims[a] = 1, p.inv_cell[a] = 1;
+    p.radius = search_r;
+    p.radius2 = search_r * search_r;  // the CPU grid's r2, in float and search units
+    p.count = std::uint32_t(count);
+    const double max_cells = double(dev->info().max_storage_buffer_range) / 4 - 1;
+    if (!o.periodic.empty()) {
+        configure_periodic(l, o, count, r, s, cell, lo, hi);
+    } else {
+        frnn::detail::kind_question q;
+        q.asked = o.kind;
+        q.n = count;
+        for (int a = 0; a < dim; ++a) q.lo[a] = lo[a], q.hi[a] = hi[a];
+        q.explicit_domain = !o.domain_min.empty();
+        q.cell = cell;
+        q.radius = double(search_r);
+        q.hashed_key_limit = INFINITY;
+        q.uniform_cell_limit = max_cells;
+        // (One thread: the host's share of a device build is a sample and one pass.)
+        const frnn::detail::kind_answer choice = dim == 2 ? frnn::detail::choose_kind<float, 2>(q, points, 1)
+                                                          : frnn::detail::choose_kind<float, 3>(q, points, 1);
+        const double cells = choice.cells;
+        for (int a = 0; a < dim; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
+        l.kind = choice.kind;
+        if (l.kind == grid_kind::uniform && !(cells <= max_cells))
+            throw error("vulkan::grid::build: a uniform grid over this domain would need " + std::to_string(cells) +
+                        " cells, more than one storage buffer of this device holds (" +
+                        std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
+        const auto dims = frnn::detail::uniform_cells(lo, hi, dim, cell);
+        for (int a = 0; a < dim; ++a) {
+            p.inv_cell[a] = float(1.0 / cell);
+            // Both kinds count cells from the lower corner: small cell coordinates keep the float
+            // rounding (and the search margin that covers it) small.
+            p.origin[a] = float(lo[a]);
+            if (l.kind == grid_kind::uniform) p.dims[a] = std::int32_t(dims[a]);
+        }
+        if (l.kind == grid_kind::uniform) {
+            l.slots = 1;
+            for (int a = 0; a < dim; ++a) l.slots *= std::size_t(p.dims[a]);
+        } else {
+            l.slots = std::bit_ceil(std::max<std::size_t>(count, 64));
+        }
+        p.hashed = l.kind == grid_kind::hashed;
+        p.mask = l.kind == grid_kind::hashed ? std::uint32_t(l.slots - 1) : 0;
+        p.slots = std::uint32_t(l.slots);
+    }
+    // Checked here, not when allocating: a build that cannot fit leaves the grid as it was.
+    if (!(double(l.slots) <= max_cells))
+        throw error("vulkan::grid::build: " + std::to_string(l.slots) + " slots need more than one storage buffer "
+                    "of this device holds (maxStorageBufferRange " +
+                    std::to_string(dev->info().max_storage_buffer_range) + " bytes)");
+    return l;
+}
+
+// Periodic box [0, L) per axis: a uniform grid of at least r-sized cells, L / dims each, as on
+// the CPU (very sparse boxes get fewer, larger cells). Lengths are checked in the caller's units.
+void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::size_t count, float r, float s,
+                                    double cell, const double* lo, const double* hi) const {
+    if (o.periodic.size() != std::size_t(dim))
+        throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) + " lengths, got " +
+                    std::to_string(o.periodic.size()));
+    grid_params& p = l.params;
+    double search_box[3] = {0, 0, 0};
+    for (int a = 0; a < dim; ++a) {
+        const double length = o.periodic[a];
+        if (!std::isfinite(length) || length < 2 * double(r) || length > double(std::numeric_limits<float>::max()))
+            throw error("vulkan::grid::build: periodic box length " + std::to_string(length) + " on axis " +
+                        std::to_string(a) + " is smaller than twice the radius (" + std::to_string(2 * double(r)) +
+                        ") or not a finite float");
+        // The oracle's box: the length rounded to float, then scaled (exact: a power of two).
+        p.box[a] = float(length) * s;
+        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(p.box[a]) * 0x1p30)
+            throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
+                        std::to_string(a));
+        search_box[a] = length * double(s);
+    }
+    const auto dims = frnn::detail::periodic_cells(search_box, dim, cell, count);
+    for (int a = 0; a < dim; ++a) p.dims[a] = std::int32_t(dims[a]);
+    l.kind = grid_kind::uniform;
+    l.slots = 1;
+    for (int a = 0; a < dim; ++a) {
+        p.inv_cell[a] = float(double(p.dims[a]) / double(p.box[a]));
+        l.slots *= std::size_t(p.dims[a]);
+    }
+    p.periodic = 1;
+    p.hashed = 0;
+    p.slots = std::uint32_t(l.slots);
+}
+
+// The checks that need neither the points nor the device.
+void grid_state::check_arguments(std::size_t count, float r, const grid_options& o) const {
+    if (!(r > 0) || !std::isfinite(r))
+        throw error("vulkan::grid::build: radius must be positive and finite, got " + shortest(r));
+    if (o.cell_size != 0 && !(o.cell_size >= double(r) / 4 && o.cell_size <= double(r)))
+        throw error("vulkan::grid::build: cell_size must lie in [r/4, r], got " + std::to_string(o.cell_size));
+    if (count >= 0x7FFFFFFFu) throw error("vulkan::grid::build: too many points (" + std::to_string(count) + ")");
+    const std::size_t bytes = count * dim * sizeof(float);
+    if (bytes > dev->info().max_storage_buffer_range)
+        throw error("vulkan::grid::build: " + std::to_string(count) + " points need " + std::to_string(bytes) +
+                    " bytes, more than one storage buffer of this device holds (maxStorageBufferRange " +
+                    std::to_string(dev->info().max_storage_buffer_range) + " bytes)");
+}
+
+// The search scale of frnn/search_scale.hpp, from the bounding box (caller's units) and the box.
+float grid_state::scale_for(float r, const float* lo, const float* hi, const grid_options& o) const {
+    float largest = largest_magnitude<float>({}, o.periodic);
+    for (int a = 0; a < dim; ++a) largest = std::max({largest, std::abs(lo[a]), std::abs(hi[a])});
+    try {
+        return frnn::search_scale<float>(r, largest);
+    } catch (const error& e) {
+        throw error(std::string("vulkan::grid::build: ") + e.what());
+    }
+}
+
+}  // namespace frnn::vulkan::detail
