@@ -250,7 +250,7 @@ private:
     void input_slots(const T* coords, std::size_t b, std::size_t e, std::uint32_t* out) const;
     void index_cells();
     void index_occupied_slots();
-    void mark_mixed_slots();
+    void mark_shared_slots();
     /// Hashed grid: the index of table slot s among the occupied slots, or empty_slot.
     std::uint32_t occupied_index(std::size_t s) const {
         const detail::occupied_slots w = occupied_[s / 32];
@@ -288,7 +288,7 @@ private:
     detail::lazy_inverse inverse_;          // original -> sorted, on first use
     std::vector<std::uint32_t> offsets_;    // run starts: of the cells, or of the occupied slots (hashed); then size()
     std::vector<detail::occupied_slots> occupied_;  // hashed: geometry_.slots / 32 words
-    std::vector<std::uint64_t> mixed_;      // hashed: bit per occupied slot holding points of several cells
+    std::vector<std::uint64_t> shared_slots_;      // hashed: bit per occupied slot holding points of several cells
 
     // Build scratch, kept for rebuilds.
     std::vector<std::uint32_t> thread_counts_;

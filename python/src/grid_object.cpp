@@ -111,7 +111,7 @@ bool all_finite(std::span<const T> v) {
 }  // namespace
 
 template <class F>
-auto grid_object::read(F&& f) const {
+auto grid_object::under_read_lock(F&& f) const {
     py::gil_scoped_release nogil;
     std::shared_lock lock(mutex_);
     if (!valid_) throw error("frnn.Grid: a previous update() failed; call update() again");
@@ -162,7 +162,7 @@ static buffer<std::int64_t> sorted_pairs(const grid<T, D>& g) {
 py::array grid_object::query_pairs() const {
     return std::visit(
         [&](auto& g) {
-            auto pairs = read([&] { return sorted_pairs(g); });
+            auto pairs = under_read_lock([&] { return sorted_pairs(g); });
             const auto m = py::ssize_t(pairs.size() / 2);
             return to_numpy(std::move(pairs), {m, 2});
         },
@@ -176,7 +176,7 @@ py::tuple grid_object::neighbors(bool return_distances, const py::object& sort, 
     o.order = parse_sort(sort);
     return std::visit(
         [&](auto& g) {
-            auto c = read([&] { return g.neighbor_lists(o); });
+            auto c = under_read_lock([&] { return g.neighbor_lists(o); });
             return csr_to_numpy(std::move(c), return_distances);
         },
         g_);
@@ -184,7 +184,7 @@ py::tuple grid_object::neighbors(bool return_distances, const py::object& sort, 
 
 py::array grid_object::count_neighbors() const {
     return std::visit(
-        [&](auto& g) { return to_numpy(read([&] { return widen(g.count_neighbors()); })); }, g_);
+        [&](auto& g) { return to_numpy(under_read_lock([&] { return widen(g.count_neighbors()); })); }, g_);
 }
 
 py::object grid_object::query_ball_point(const py::object& x, std::optional<double> r,
@@ -208,11 +208,11 @@ py::object grid_object::query_ball_point(const py::object& x, std::optional<doub
                                               return_length);
             }
             if (return_length)
-                return to_numpy(read([&] { return widen(g.query_counts(coords_of(q))); }));
+                return to_numpy(under_read_lock([&] { return widen(g.query_counts(coords_of(q))); }));
             list_options o;
             o.distances = return_distances;
             o.order = order;
-            auto c = read([&] { return g.query(coords_of(q), o); });
+            auto c = under_read_lock([&] { return g.query(coords_of(q), o); });
             return csr_to_numpy(std::move(c), return_distances);
         },
         g_);
@@ -228,9 +228,9 @@ py::tuple grid_object::query_knn(std::int64_t k, const py::object& x) const {
         [&](auto& g) {
             using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
             constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
-            if (x.is_none()) return csr_to_numpy(read([&] { return g.nearest(std::size_t(k), o); }), true);
+            if (x.is_none()) return csr_to_numpy(under_read_lock([&] { return g.nearest(std::size_t(k), o); }), true);
             const auto q = typed_points<T, D>(x, "x", true);
-            return csr_to_numpy(read([&] { return g.query_nearest(coords_of(q), std::size_t(k), o); }), true);
+            return csr_to_numpy(under_read_lock([&] { return g.query_nearest(coords_of(q), std::size_t(k), o); }), true);
         },
         g_);
 }
@@ -258,7 +258,7 @@ py::array grid_object::original_points() const {
         [&](auto& g) {
             using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
             constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
-            std::vector<T> out = read([&] {
+            std::vector<T> out = under_read_lock([&] {
                 std::vector<T> p(g.size() * D);
                 const auto perm = g.sorted_to_original();
                 for (std::size_t s = 0; s < g.size(); ++s)

@@ -70,7 +70,7 @@ private:
     py::array original_points() const;
     /// Runs f(grid) with the GIL released under the shared (reading) lock.
     template <class F>
-    auto read(F&& f) const;
+    auto under_read_lock(F&& f) const;
 
     any_grid g_;
     grid_options options_;

@@ -63,7 +63,7 @@ std::size_t grid<T, D>::memory_bytes() const {
     for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
     for (const auto& p : input_pos_) bytes += p.capacity() * sizeof(T);
     bytes += (perm_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t) + inverse_.capacity_bytes();
-    bytes += mixed_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slots);
+    bytes += shared_slots_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slots);
     return bytes;
 }
 
@@ -77,7 +77,7 @@ void grid<T, D>::clear() noexcept {
     thread_counts_ = {};
     scratch_.bytes = buffer<std::byte>();
     occupied_ = {};
-    mixed_ = {};
+    shared_slots_ = {};
     try {
         std::vector<T> none;
         geometry_ = detail::plan_geometry<T, D>({}, radius_, options_, none);

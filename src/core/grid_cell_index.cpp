@@ -15,7 +15,7 @@ template <class T, int D>
 void grid<T, D>::index_cells() {
     if (geometry_.kind == grid_kind::hashed) index_occupied_slots();
     else occupied_ = {};
-    mark_mixed_slots();
+    mark_shared_slots();
 }
 
 // Hashed grid: the bits of occupied slots with their counts, and the starts of those slots
@@ -85,11 +85,11 @@ bool grid<T, D>::cells_sorted(std::uint32_t b, std::uint32_t e) const {
 // Counts non-empty cells; in the hashed grid, also flags slots shared by several cells and
 // orders their points by cell, so that a cell is always one run of points, found by binary search.
 template <class T, int D>
-void grid<T, D>::mark_mixed_slots() {
+void grid<T, D>::mark_shared_slots() {
     const int threads = detail::resolve_threads(options_.threads);
     const bool hashed = geometry_.kind == grid_kind::hashed;
     const std::size_t runs = offsets_.size() - 1;  // cells, or occupied slots (hashed)
-    mixed_.assign(hashed ? (runs + 63) / 64 : 0, 0);
+    shared_slots_.assign(hashed ? (runs + 63) / 64 : 0, 0);
     const std::size_t words = (runs + 63) / 64;
     // Hashed runs are occupied slots, some of them shared and sorted here: smaller chunks.
     const std::size_t parts = detail::chunk_count(words, threads, hashed ? 4 : 1 << 10);
@@ -110,7 +110,7 @@ void grid<T, D>::mark_mixed_slots() {
                 ++count;
                 continue;
             }
-            mixed_[s / 64] |= std::uint64_t(1) << (s % 64);
+            shared_slots_[s / 64] |= std::uint64_t(1) << (s % 64);
             if (!cells_sorted(b, e)) group_cells(b, e);
             for (j = b; j < e; ++count) {  // one piece per cell now
                 const auto cell = cell_of(sorted_point(j));
@@ -129,7 +129,7 @@ std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
     const std::uint32_t slot = slot_of_cell(cell);
     if (geometry_.kind != grid_kind::hashed) return offsets_[slot + 1];
     const std::uint32_t k = occupied_index(slot);  // occupied: point s lies in it
-    if (mixed_[k / 64] >> (k % 64) & 1) {
+    if (shared_slots_[k / 64] >> (k % 64) & 1) {
         // A shared slot holds its cells one after the other (see group_cells).
         std::uint32_t e = s + 1;
         while (e < offsets_[k + 1] && hashed_point_in_cell(e, cell)) ++e;
@@ -145,7 +145,7 @@ std::uint32_t grid<T, D>::cell_group_end(std::uint32_t s) const {
     template void grid<T, D>::index_occupied_slots();                              \
     template void grid<T, D>::group_cells(std::uint32_t, std::uint32_t);           \
     template bool grid<T, D>::cells_sorted(std::uint32_t, std::uint32_t) const;    \
-    template void grid<T, D>::mark_mixed_slots();                                  \
+    template void grid<T, D>::mark_shared_slots();                                  \
     template std::uint32_t grid<T, D>::cell_group_end(std::uint32_t) const;
 FRNN_INSTANTIATE_CELL_INDEX(float, 2)
 FRNN_INSTANTIATE_CELL_INDEX(float, 3)

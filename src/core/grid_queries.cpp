@@ -11,7 +11,7 @@
 #include <string>
 
 #include "core/grid_access.hpp"
-#include "core/kept_hits.hpp"
+#include "core/hit_masks.hpp"
 #include "core/slab_schedule.hpp"
 #include "core/sweep.hpp"
 #include "cpu/parallel.hpp"
@@ -82,6 +82,7 @@ struct query_engine {
         job.self = true;  // no point of the grid is the query itself: keep every candidate
         job.k_nearest = k_nearest;
         job.order = k_nearest > 0 ? row_order::distance : o.order;
+        job.rows = sweep_job<T>::row_source::query_points;
         job.queries = queries.data();
         job.query_order = order.data();
         resize_discarding(out.offsets, rows + 1);
@@ -89,7 +90,7 @@ struct query_engine {
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        const auto kept = keeps_hits(o, k_nearest) ? plan_kept_hits(job, rows, parts) : nullptr;
+        const auto kept = keeps_hit_masks(o, k_nearest) ? plan_hit_masks(job, rows, parts) : nullptr;
         count_rows(job, rows, parts, kept.get());
         std::copy(sizes.begin(), sizes.end(), out.offsets.begin());
         fill_rows(out, job, o.distances, parts, kept.get());
@@ -102,6 +103,7 @@ struct query_engine {
         const auto order = queries_by_cell(queries);
         sweep_job<T> job;
         job.self = true;
+        job.rows = sweep_job<T>::row_source::query_points;
         job.queries = queries.data();
         job.query_order = order.data();
         job.counts = out.data();
@@ -210,7 +212,7 @@ struct query_engine {
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        const auto kept = keeps_hits(o, k_nearest) ? plan_kept_hits(job, rows, parts) : nullptr;
+        const auto kept = keeps_hit_masks(o, k_nearest) ? plan_hit_masks(job, rows, parts) : nullptr;
         // Half rows count each pair once, for the row that holds it, unless a point's sweep
         // skips the candidates before it anyway: an open uniform grid in its own numbering
         // (W8 half lists in the caller's numbering, 32,000 atoms, 1 thread: 42 -> 23 ms).
@@ -237,18 +239,18 @@ struct query_engine {
 
     /// Whether the rows of a list are ones whose hit bits the count sweep can keep: rows (full
     /// or half, not the k nearest) in block order or sorted by index, without distances.
-    static bool keeps_hits(const list_options& o, std::size_t k_nearest) {
+    static bool keeps_hit_masks(const list_options& o, std::size_t k_nearest) {
         return k_nearest == 0 && !o.distances && o.order != row_order::distance;
     }
 
     /// The count sweep of a list: row sizes into job.counts, keeping the hit bits if `kept`.
-    void count_rows(const sweep_job<T>& job, std::size_t rows, std::size_t parts, kept_hits* kept) const {
+    void count_rows(const sweep_job<T>& job, std::size_t rows, std::size_t parts, hit_masks* kept) const {
         const auto& kernels = sweep_for_cpu<T, D>();
         for_each_chunk(rows, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
             if (!kept) return kernels.count(g, job, b, e);
             sweep_job<T> own = job;
             own.hits = kept->chunk(c);
-            kernels.count_kept(g, own, b, e);
+            kernels.count_keeping_masks(g, own, b, e);
         });
     }
 
@@ -258,7 +260,7 @@ struct query_engine {
     /// chunks of at most 32,768 points (`parts` becomes their number), when the bits take at
     /// most 32 bytes per point (W1 on AVX-512 takes 28); null otherwise (dense or clustered
     /// points), leaving `parts` alone.
-    std::unique_ptr<kept_hits> plan_kept_hits(const sweep_job<T>& job, std::size_t rows, std::size_t& parts) const {
+    std::unique_ptr<hit_masks> plan_hit_masks(const sweep_job<T>& job, std::size_t rows, std::size_t& parts) const {
         constexpr std::size_t budget_per_point = 32, max_chunk = 32768;
         if (rows == 0) return nullptr;
         // Small chunks even on one thread: the memory of each goes back once it is filled.
@@ -271,17 +273,17 @@ struct query_engine {
         for_each_chunk(rows, chunks, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
             if (over.load(std::memory_order_relaxed)) return;
             const std::size_t limit = 2 * budget_per_point * (e - b);
-            bytes[c] = kernels.kept_hit_bytes(g, job, b, e, limit);
+            bytes[c] = kernels.hit_mask_bytes(g, job, b, e, limit);
             if (bytes[c] > limit) over = true;
         });
         if (over || std::accumulate(bytes.begin(), bytes.end(), std::size_t(0)) > budget_per_point * rows) return nullptr;
         parts = chunks;
-        return std::make_unique<kept_hits>(bytes);
+        return std::make_unique<hit_masks>(bytes);
     }
 
     /// The second sweep of a list: out.offsets[0, rows) hold the row sizes; makes them offsets,
     /// sizes the rows and lets every point write its own, from the kept hit bits if given.
-    void fill_rows(csr<T>& out, sweep_job<T>& job, bool distances, std::size_t parts, kept_hits* kept = nullptr) const {
+    void fill_rows(csr<T>& out, sweep_job<T>& job, bool distances, std::size_t parts, hit_masks* kept = nullptr) const {
         const std::size_t rows = out.offsets.size() - 1;
         const std::uint64_t total = exclusive_scan(out.offsets.data(), rows + 1, threads);
         resize_discarding(out.indices, total);
@@ -294,7 +296,7 @@ struct query_engine {
             if (!kept) return kernels.fill(g, job, b, e);
             sweep_job<T> own = job;
             own.hits = kept->chunk(c);
-            kernels.fill_kept(g, own, b, e);
+            kernels.fill_from_masks(g, own, b, e);
             kept->done(c);
         });
         // The distances of a scaled search, back in the caller's units.

@@ -146,9 +146,9 @@ std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(const std
     const std::uint32_t k = occupied_index(s);
     if (k == empty_slot) return {0, 0};
     std::uint32_t b = offsets_[k], e = offsets_[k + 1];
-    if (mixed_[k / 64] >> (k % 64) & 1) {
+    if (shared_slots_[k / 64] >> (k % 64) & 1) {
         // A shared slot holds its cells one after the other, ordered by cell coordinates
-        // (mark_mixed_slots): two binary searches find the cell's points.
+        // (mark_shared_slots): two binary searches find the cell's points.
         auto first_failing = [](std::uint32_t lo, std::uint32_t hi, auto&& pred) {
             while (lo < hi) {
                 const std::uint32_t mid = lo + (hi - lo) / 2;

@@ -23,6 +23,11 @@ namespace frnn::detail {
 /// passes the list options: all but `me`, or only ids > me (half), with `me` itself if `self`.
 template <class T>
 struct sweep_job {
+    /// Whose rows a sweep computes: the grid's own points, or the points of another set.
+    enum class row_source { grid_points, query_points };
+    row_source rows = row_source::grid_points;
+    bool of_queries() const { return rows == row_source::query_points; }
+
     /// Id of each sorted point in the output, which is also its output row; null: the sorted
     /// index itself.
     const std::uint32_t* ids = nullptr;
@@ -43,14 +48,14 @@ struct sweep_job {
     std::uint32_t* indices = nullptr;
     T* distances = nullptr;                   ///< null: not wanted
 
-    /// Query sweeps: points of another set (interleaved coordinates) instead of the grid's
-    /// own, swept in `query_order` (query indices grouped by cell, see query_engine). Rows and
+    /// Query sweeps (row_source::query_points): points of another set (interleaved
+    /// coordinates) instead of the grid's own, swept in `query_order` (query indices grouped by cell, see query_engine). Rows and
     /// counts are then by query index; sweep ranges [b, e) are positions in query_order.
     const T* queries = nullptr;
     const std::uint32_t* query_order = nullptr;
 
-    /// count_kept writes and fill_kept reads the hit bits of [b, e) here, as many bytes as
-    /// kept_hit_bytes gives.
+    /// count_keeping_masks writes and fill_from_masks reads the hit masks of [b, e) here (the
+    /// distance test's bits, one per candidate), as many bytes as hit_mask_bytes gives.
     std::byte* hits = nullptr;
 };
 
@@ -83,14 +88,15 @@ struct sweep_kernels {
     void (*count_pairs)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Rows of the sorted points [b, e) (or of the queries), at job.offsets of their output rows.
     void (*fill)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// The bytes that count_kept keeps for the sorted points [b, e) (one bit per candidate,
-    /// whole vectors per point), or some number above `limit` once they exceed it.
-    std::size_t (*kept_hit_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e,
+    /// The bytes that count_keeping_masks keeps for the sorted points [b, e) (one bit per
+    /// candidate, whole vectors per point), or some number above `limit` once they exceed it.
+    std::size_t (*hit_mask_bytes)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e,
                                   std::size_t limit);
     /// count for rows without k nearest (full or half), keeping the hit bits in job.hits.
-    void (*count_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
-    /// fill from the hit bits that count_kept kept for the same [b, e); rows without distances.
-    void (*fill_kept)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    void (*count_keeping_masks)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
+    /// fill from the hit bits that count_keeping_masks kept for the same [b, e); rows without
+    /// distances.
+    void (*fill_from_masks)(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e);
     /// Not a sweep, but vector code of the build: the slots of the input points [b, e) of
     /// `coords` (interleaved) into out[0, e - b).
     void (*uniform_slots)(const T* coords, std::size_t b, std::size_t e, const uniform_frame& f, std::uint32_t* out);

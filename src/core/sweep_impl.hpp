@@ -39,23 +39,23 @@ void fill(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size
     with_sweeper(g, job, [&](auto& s) { s.fill(b, e); });
 }
 template <class T, int D>
-std::size_t kept_hit_bytes(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e, std::size_t limit) {
-    return with_sweeper(g, job, [&](auto& s) { return s.kept_hit_bytes(b, e, limit); });
+std::size_t hit_mask_bytes(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e, std::size_t limit) {
+    return with_sweeper(g, job, [&](auto& s) { return s.hit_mask_bytes(b, e, limit); });
 }
 template <class T, int D>
-void count_kept(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    with_sweeper(g, job, [&](auto& s) { s.count_kept(b, e); });
+void count_keeping_masks(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    with_sweeper(g, job, [&](auto& s) { s.count_keeping_masks(b, e); });
 }
 template <class T, int D>
-void fill_kept(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
-    with_sweeper(g, job, [&](auto& s) { s.fill_kept(b, e); });
+void fill_from_masks(const grid<T, D>& g, const sweep_job<T>& job, std::size_t b, std::size_t e) {
+    with_sweeper(g, job, [&](auto& s) { s.fill_from_masks(b, e); });
 }
 
 template <class T, int D>
 const sweep_kernels<T, D>& table() {
-    static const sweep_kernels<T, D> t{&count<T, D>,         &count_pairs<T, D>, &fill<T, D>,
-                                       &kept_hit_bytes<T, D>, &count_kept<T, D>,  &fill_kept<T, D>,
-                                       &uniform_slots<T, D>,  &hashed_slots<T, D>, &bounds<T, D>};
+    static const sweep_kernels<T, D> t{&count<T, D>,          &count_pairs<T, D>,         &fill<T, D>,
+                                       &hit_mask_bytes<T, D>, &count_keeping_masks<T, D>, &fill_from_masks<T, D>,
+                                       &uniform_slots<T, D>,  &hashed_slots<T, D>,        &bounds<T, D>};
     return t;
 }
 

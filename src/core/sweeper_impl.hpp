@@ -70,13 +70,13 @@ struct sweeper {
         : g(gr), job(j), r2(gr.search_radius() * gr.search_radius()), group_width(group_width_for(gr)) {
         if constexpr (Periodic) {
             for (int a = 0; a < D; ++a) box[a] = gr.geometry().box[a];
-            shifts = !job.queries && grid_access::images_exact(gr);
+            shifts = !job.of_queries() && grid_access::images_exact(gr);
         }
     }
 
     std::array<T, D> point(std::uint32_t s) const {
         std::array<T, D> x;
-        if (job.queries) {
+        if (job.of_queries()) {
             const T* q = job.queries + std::size_t(job.query_order[s]) * D;
             for (int a = 0; a < D; ++a) x[a] = q[a];
         } else {
@@ -86,7 +86,7 @@ struct sweeper {
     }
     /// The id of point s, which is also its output row.
     std::uint32_t id(std::uint32_t s) const {
-        if (job.queries) return job.query_order[s];
+        if (job.of_queries()) return job.query_order[s];
         return job.ids ? job.ids[s] : s;
     }
 
@@ -94,7 +94,7 @@ struct sweeper {
     /// candidate block: for_each_cell_group, or consecutive queries in one cell.
     template <class F>
     void for_each_group(std::size_t b, std::size_t e, F&& f) const {
-        if (!job.queries) return for_each_cell_group(g, b, e, group_width, f);
+        if (!job.of_queries()) return for_each_cell_group(g, b, e, group_width, f);
         for (std::size_t s = b; s < e;) {
             const auto cell = g.geometry().cell_of(point(std::uint32_t(s)));
             std::size_t end = s + 1;
@@ -108,7 +108,7 @@ struct sweeper {
     /// does when its cell does not; a query must lie inside the box as well.
     bool wraps_at(bool group_wraps, const std::array<T, D>& x) const {
         if constexpr (!Periodic) return false;
-        if (group_wraps || !job.queries) return group_wraps;
+        if (group_wraps || !job.of_queries()) return group_wraps;
         for (int a = 0; a < D; ++a)
             if (!(x[a] >= T(0) && x[a] < box[a])) return true;
         return false;
@@ -162,12 +162,12 @@ struct sweeper {
     /// periodic one's too), and without caller ids a point's id is its sorted index.
     bool positions_in_id_order() const { return !job.ids && g.kind() == grid_kind::uniform; }
     /// Whether half rows must compare ids (the kernels' ById).
-    bool filter_by_id() const { return job.half && !job.queries && !positions_in_id_order(); }
+    bool filter_by_id() const { return job.half && !job.of_queries() && !positions_in_id_order(); }
 
     /// The candidates that enter the row of point s, at block position pos (grid points).
     candidate_filter filter(std::uint32_t s, std::uint32_t pos) const {
         candidate_filter f;
-        if (job.queries) return f;  // a query is no grid point: every candidate counts
+        if (job.of_queries()) return f;  // a query is no grid point: every candidate counts
         if (!job.half) {
             if (!job.self) f.skip = pos;
         } else if (positions_in_id_order()) {
@@ -182,7 +182,7 @@ struct sweeper {
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width);
             const bool wrap = wraps(cell);
-            const std::uint32_t first = job.queries ? 0 : block_position(gb);
+            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
                 std::uint32_t c = with_kernel(x, wrap, [&](const auto& kern) {
@@ -193,7 +193,7 @@ struct sweeper {
                                           : kern.template emit<false, true>(block, f, nullptr, nullptr);
                 });
                 if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
-                job.counts[job.queries ? id(s) : s] = c;
+                job.counts[job.of_queries() ? id(s) : s] = c;
             }
         });
     }
@@ -217,7 +217,7 @@ struct sweeper {
     /// for memory (W2 lists at 1M points took 1.8x as long). Empty for rows in sorted order.
     std::vector<std::uint64_t> scattered_row_starts(std::size_t b, std::size_t e) const {
         std::vector<std::uint64_t> starts;
-        if (job.ids || job.queries) {
+        if (job.ids || job.of_queries()) {
             starts.resize(e - b);
             for (std::size_t s = b; s < e; ++s) starts[s - b] = job.offsets[id(std::uint32_t(s))];
         }
@@ -247,7 +247,7 @@ struct sweeper {
             gather(cell, width);
             const bool wrap = wraps(cell);
             if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
-            const std::uint32_t first = job.queries ? 0 : block_position(gb);
+            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
                 const auto x = point(s);
                 const candidate_filter f = filter(s, first + (s - gb));
@@ -281,7 +281,7 @@ struct sweeper {
     /// One bit per candidate of a block, a word per vector.
     using hit_word = std::conditional_t<(kernel::L::n > 8), std::uint16_t, std::uint8_t>;
 
-    std::size_t kept_hit_bytes(std::size_t b, std::size_t e, std::size_t limit) {
+    std::size_t hit_mask_bytes(std::size_t b, std::size_t e, std::size_t limit) {
         std::size_t bytes = 0;
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             if (bytes > limit) return;  // the caller gives up: no more stencil lookups
@@ -294,30 +294,30 @@ struct sweeper {
     }
 
     /// The count sweep of a list, keeping the hit bits of every vector in job.hits.
-    void count_kept(std::size_t b, std::size_t e) {
+    void count_keeping_masks(std::size_t b, std::size_t e) {
         auto* bits = reinterpret_cast<hit_word*>(job.hits);
         const bool by_id = filter_by_id();
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             gather(cell, width, by_id);
             const bool wrap = wraps(cell);
-            const std::uint32_t first = job.queries ? 0 : block_position(gb);
+            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
             const std::uint32_t vectors = block.padded / kernel::L::n;
             for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
                 const auto x = point(s);
                 const candidate_filter f = filter(s, first + (s - gb));
-                job.counts[job.queries ? id(s) : s] = with_kernel(x, wrap, [&](const auto& kern) {
+                job.counts[job.of_queries() ? id(s) : s] = with_kernel(x, wrap, [&](const auto& kern) {
                     return by_id ? kern.template keep_hits<true>(block, f, bits) : kern.template keep_hits<false>(block, f, bits);
                 });
             }
         });
     }
 
-    /// fill from the bits that count_kept kept: the ids they select, no distance computed.
-    void fill_kept(std::size_t b, std::size_t e) {
+    /// fill from the bits that count_keeping_masks kept: the ids they select, no distance computed.
+    void fill_from_masks(std::size_t b, std::size_t e) {
         const auto* next = reinterpret_cast<const hit_word*>(job.hits);
         const std::vector<std::uint64_t> starts = scattered_row_starts(b, e);
         // Half rows in id order by block position: the vectors before the point's hold no hit.
-        const bool from_position = job.half && !job.queries && positions_in_id_order();
+        const bool from_position = job.half && !job.of_queries() && positions_in_id_order();
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
             nruns = grid_access::stencil_runs(g, cell, runs, width);
             block.gather_ids(runs, nruns, job.ids);

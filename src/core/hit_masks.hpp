@@ -13,10 +13,10 @@
 
 namespace frnn::detail {
 
-class kept_hits {
+class hit_masks {
 public:
     /// Room for chunks of the given sizes in bytes.
-    explicit kept_hits(const std::vector<std::size_t>& chunk_bytes)
+    explicit hit_masks(const std::vector<std::size_t>& chunk_bytes)
         : at_(chunk_bytes.size() + 1, 0), done_(chunk_bytes.size(), 0) {
         std::partial_sum(chunk_bytes.begin(), chunk_bytes.end(), at_.begin() + 1);
         bits_.resize(at_.back());
