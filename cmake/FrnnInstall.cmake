@@ -6,7 +6,25 @@ install(TARGETS frnn EXPORT frnnTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/frnn DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# The installed headers, by name: a header in include/frnn is public once it is listed here.
+# The Vulkan backend installs its own (vulkan.hpp, grid.glsl) with its component.
+set(frnn_public_headers
+  brute_force.hpp buffer.hpp csr.hpp error.hpp frnn.hpp grid.hpp grid_geometry.hpp options.hpp
+  parallel.hpp point_sets.hpp search_scale.hpp simd.hpp verlet_lists.hpp
+  detail/candidate_runs.hpp detail/grid_storage.hpp)
+set(frnn_vulkan_headers vulkan.hpp grid.glsl)
+# A header nobody listed would be missing from installs without anyone noticing: refuse it.
+file(GLOB_RECURSE frnn_headers_present RELATIVE ${PROJECT_SOURCE_DIR}/include/frnn
+     ${PROJECT_SOURCE_DIR}/include/frnn/*)
+foreach(header ${frnn_headers_present})
+  if(NOT header IN_LIST frnn_public_headers AND NOT header IN_LIST frnn_vulkan_headers)
+    message(FATAL_ERROR "include/frnn/${header} is in neither list of cmake/FrnnInstall.cmake")
+  endif()
+endforeach()
+foreach(header ${frnn_public_headers})
+  get_filename_component(folder ${header} DIRECTORY)
+  install(FILES ${PROJECT_SOURCE_DIR}/include/frnn/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/frnn/${folder})
+endforeach()
 install(EXPORT frnnTargets NAMESPACE frnn:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/frnn)
 export(EXPORT frnnTargets NAMESPACE frnn:: FILE ${PROJECT_BINARY_DIR}/frnnTargets.cmake)
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/frnnConfig.cmake.in

@@ -27,6 +27,9 @@ namespace frnn {
 /// OMP_NUM_THREADS (its first number; cluster job launchers set it), else the number of CPUs
 /// this process may run on.
 int default_thread_count();
+/// The rule for every `threads` setting of frnn: `requested` if positive, else
+/// default_thread_count().
+inline int resolve_thread_count(int requested) { return requested > 0 ? requested : default_thread_count(); }
 
 namespace detail {
 /// The pool's entry point behind parallel_chunks: run(context, chunk, worker) for each chunk.

@@ -47,7 +47,7 @@ template <int D>
 class particle_solver : public solver {
 public:
     particle_solver(const scene& s, int threads)
-        : scene_(s), threads_(threads > 0 ? threads : default_thread_count()), colliders_(s.colliders) {
+        : scene_(s), threads_(resolve_thread_count(threads)), colliders_(s.colliders) {
         auto seeded = seed(s);
         spacing_ = seeded.spacing;
         n_ = seeded.count;

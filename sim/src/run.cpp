@@ -219,7 +219,7 @@ json load_summary(const profiler& prof, const load_hook& load) {
 
 run_result execute(run_state& st, solver& sol, const run_options& opt, const std::string& dir, bool resumed) {
     const scene& sc = sol.get_scene();
-    const int threads = opt.threads > 0 ? opt.threads : default_thread_count();
+    const int threads = resolve_thread_count(opt.threads);
     profiler prof(!opt.trace_path.empty(), threads);
     const double g = std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
     const double height = sc.domain_max[1] - sc.domain_min[1];

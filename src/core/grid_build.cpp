@@ -36,7 +36,7 @@ struct point_record {
 
 template <class T, int D>
 int grid<T, D>::threads() const {
-    return detail::resolve_threads(options_.threads);
+    return resolve_thread_count(options_.threads);
 }
 
 template <class T, int D>
@@ -155,7 +155,7 @@ void grid<T, D>::store_records(const Record* records, std::size_t begin, std::si
 template <class T, int D>
 void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     const std::size_t n = coords.size() / D;
-    const int threads = detail::resolve_threads(options_.threads);
+    const int threads = resolve_thread_count(options_.threads);
     // Fixed chunks for count and scatter: chunk c's points go after chunk c-1's in every cell,
     // which keeps the sort stable for any number of chunks.
     const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
@@ -263,7 +263,7 @@ template <class T, int D>
 void grid<T, D>::scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,
                                      std::size_t parts) {
     const std::size_t n = coords.size() / D;
-    const int threads = detail::resolve_threads(options_.threads);
+    const int threads = resolve_thread_count(options_.threads);
     // Buckets are cut between groups of 2^shift slots, small groups (a sixteenth of a bucket
     // on average) so that uneven density still gives buckets of about the same size.
     int shift = 0;

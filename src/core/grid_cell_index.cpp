@@ -22,7 +22,7 @@ void grid<T, D>::index_cells() {
 // only, in slot order (the scatter's starts of every slot are freed).
 template <class T, int D>
 void grid<T, D>::index_occupied_slots() {
-    const int threads = detail::resolve_threads(options_.threads);
+    const int threads = resolve_thread_count(options_.threads);
     const std::size_t words = geometry_.slots / 32;  // geometry_.slots is a power of 2, at least 64
     occupied_.resize(words);
     const std::size_t parts = detail::chunk_count(words, threads, 1 << 10);
@@ -86,7 +86,7 @@ bool grid<T, D>::cells_sorted(std::uint32_t b, std::uint32_t e) const {
 // orders their points by cell, so that a cell is always one run of points, found by binary search.
 template <class T, int D>
 void grid<T, D>::mark_shared_slots() {
-    const int threads = detail::resolve_threads(options_.threads);
+    const int threads = resolve_thread_count(options_.threads);
     const bool hashed = geometry_.kind == grid_kind::hashed;
     const std::size_t runs = offsets_.size() - 1;  // cells, or occupied slots (hashed)
     shared_slots_.assign(hashed ? (runs + 63) / 64 : 0, 0);

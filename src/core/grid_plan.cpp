@@ -59,7 +59,7 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
         if (asked < user_r / 4 * (1 - 1e-12))
             throw error("cell size " + fmt_double(asked) + " is smaller than radius/4 = " + fmt_double(user_r / 4));
     }
-    const int threads = resolve_threads(o.threads);
+    const int threads = resolve_thread_count(o.threads);
 
     // Finite coordinates, and the bounding box (first bad index reported).
     std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};

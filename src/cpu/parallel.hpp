@@ -11,10 +11,6 @@
 
 namespace frnn::detail {
 
-/// 0 means every hardware thread.
-inline int resolve_threads(int requested) {
-    return requested > 0 ? requested : default_thread_count();
-}
 
 /// Splits [0, n) into `parts` contiguous chunks; chunk c is [bound(c), bound(c+1)).
 inline std::size_t chunk_bound(std::size_t n, std::size_t parts, std::size_t c) {

@@ -337,7 +337,7 @@ namespace detail {
 
 void run_chunks(std::size_t chunks, int threads, void (*run)(void*, std::size_t, int), void* context) {
     if (chunks == 0) return;
-    if (threads <= 0) threads = default_thread_count();
+    threads = resolve_thread_count(threads);
     threads = int(std::min<std::size_t>(std::size_t(threads), chunks));
     if (threads == 1 || inside_chunk) {
         for (std::size_t c = 0; c < chunks; ++c) run(context, c, 0);

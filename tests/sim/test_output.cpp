@@ -120,17 +120,24 @@ TEST(SimOutput, ChromeTraceHasSpansPerStageAndThread) {
     run_options o = quiet(dir);
     o.trace_path = (dir / "trace.json").string();
     o.write_frames = false;
-    run(builtin_scene_text("dam-break"), "dam-break", small(2, 20000, 5, 5), o);
-    const auto trace = nlohmann::json::parse(slurp(dir / "trace.json"));
-    std::set<std::string> stages;
+    // A worker joins the loops it is awake for: on a busy machine it may miss some, and now and
+    // then all of a short run's, so the run is repeated (at most 5 times) until it shows up.
+    // Spans carry worker numbers 0 and 1 only.
     std::set<int> threads;
-    for (const auto& e : trace["traceEvents"])
-        if (e["ph"] == "X") {
-            stages.insert(e["name"].get<std::string>());
-            threads.insert(e["tid"].get<int>());
-        }
-    for (const char* stage : {"density relaxation", "collisions", "viscosity"}) EXPECT_TRUE(stages.count(stage)) << stage;
-    // A worker joins the loops it is awake for (on a busy machine it may miss some, never all
-    // of about 80 chunks in each of 30 loops); spans carry worker numbers 0 and 1 only.
+    for (int attempt = 0; attempt < 5 && threads.size() < 2; ++attempt) {
+        run(builtin_scene_text("dam-break"), "dam-break", small(2, 20000, 5, 5), o);
+        const auto trace = nlohmann::json::parse(slurp(dir / "trace.json"));
+        std::set<std::string> stages;
+        threads.clear();
+        for (const auto& e : trace["traceEvents"])
+            if (e["ph"] == "X") {
+                stages.insert(e["name"].get<std::string>());
+                threads.insert(e["tid"].get<int>());
+            }
+        for (const char* stage : {"density relaxation", "collisions", "viscosity"})
+            ASSERT_TRUE(stages.count(stage)) << stage;
+        ASSERT_TRUE(threads.count(0)) << "no span of the calling thread";
+        ASSERT_LE(threads.size(), 2u) << "a worker number beyond 0 and 1";
+    }
     EXPECT_EQ(threads, (std::set<int>{0, 1}));
 }
