@@ -91,9 +91,8 @@ void viewer::draw_parameters() {
 void viewer::draw_panel() {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
-    const float width = 380;
-    ImGui::SetNextWindowPos(ImVec2(float(w) - width, 0), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(width, float(h)), ImGuiCond_Always);
+    ImGui::SetNextWindowPos(ImVec2(float(w) - panel_width, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(panel_width, float(h)), ImGuiCond_Always);
     ImGui::Begin("frnn view", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     const auto button = [&](const char* label) {
         const bool pressed = ImGui::Button(label);

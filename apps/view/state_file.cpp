@@ -52,7 +52,8 @@ void viewer::write_state(const std::string& path) const {
     const vec3f eye = cam_.eye(), target = cam_.target(), up = cam_.up();
     j["camera"] = {{"plane_view", cam_.plane_view()}, {"eye", eye},         {"target", target},
                    {"up", up},                         {"fov", cam_.fov_degrees()}, {"half_height", cam_.half_height()},
-                   {"width", w},                       {"height", h}};
+                   {"width", w},                       {"height", h},
+                   {"viewport", scene_viewport()}};  // x, y (from the bottom), width, height
     j["legend"] = {{"field", field_names[std::size_t(field_)]},
                    {"min", shown_min_},
                    {"max", shown_max_},

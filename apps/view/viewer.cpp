@@ -264,10 +264,8 @@ void viewer::update_pointer() {
         drag_button_ = -1;
     }
     const float dx = float(now.x - last_pointer_.x), dy = float(now.y - last_pointer_.y);
-    int w = 0, h = 0;
-    glfwGetFramebufferSize(window_, &w, &h);
     if (drag_button_ == 0 && !cam_.plane_view()) cam_.orbit(dx, dy);
-    else if (drag_button_ >= 0) cam_.pan(dx, dy, std::max(h, 1));
+    else if (drag_button_ >= 0) cam_.pan(dx, dy, scene_viewport()[3]);
     if (scroll_ != 0) cam_.zoom(float(scroll_));
     scroll_ = 0;
     last_pointer_ = now;
@@ -294,18 +292,28 @@ void viewer::refresh_particles() {
     upload_seconds_ += seconds_since(t0);
 }
 
+std::array<int, 4> viewer::scene_viewport() const {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_, &w, &h);
+    const int panel = int(panel_width);
+    return {0, 0, w > 2 * panel ? w - panel : w, std::max(h, 1)};
+}
+
 void viewer::draw_scene() {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
     glViewport(0, 0, w, h);
     glClearColor(0.08f, 0.09f, 0.11f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const auto vp = scene_viewport();
+    glViewport(vp[0], vp[1], vp[2], vp[3]);
     glEnable(GL_DEPTH_TEST);
-    const float aspect = float(w) / float(std::max(h, 1));
+    const float aspect = float(vp[2]) / float(vp[3]);
     const mat4 view = cam_.view(), projection = cam_.projection(aspect);
     lines_->draw(multiply(projection, view));
     particles_->draw(view, projection, float(0.5 * snapshot_.spacing), shown_min_, shown_max_);
     glDisable(GL_DEPTH_TEST);
+    glViewport(0, 0, w, h);
 }
 
 void viewer::frame() {

@@ -29,6 +29,9 @@ struct pointer_state {
     std::array<bool, 3> down{false, false, false};
 };
 
+/// Width of the control panel at the window's right edge, in pixels.
+inline constexpr float panel_width = 380;
+
 class viewer {
 public:
     /// Opens the window (throws frnn::error when there is no display or no OpenGL 3.3).
@@ -50,6 +53,8 @@ private:
     void update_pointer();
     void refresh_particles();
     void draw_scene();
+    /// The part of the window the scene is drawn in, left of the panel: x, y, width, height.
+    std::array<int, 4> scene_viewport() const;
     void draw_panel();
     void draw_legend();
     void draw_parameters();

@@ -1,0 +1,84 @@
+// What the viewer draws: each particle at its projected pixel, in the legend's color for its
+// field value. The projection is computed here from the camera the script sets (not from the
+// viewer's matrices), and the expected colors are read from the legend in the same picture.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "viewer_run.hpp"
+
+using namespace frnn::test;
+
+namespace {
+
+// One layer of particles facing the camera, no gravity: they stay where they were seeded.
+const char* layer_scene = R"({"name": "layer", "dim": 3, "particles": 16, "gravity": [0, 0, 0],
+  "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+  "fluid": [{"type": "box", "min": [0.2, 0.2, 0.45], "max": [0.8, 0.8, 0.55]}]})";
+
+struct pixel_xy {
+    double x, y;  // from the image's top-left
+};
+
+/// Perspective projection of p for a camera at `eye` looking at `target` with y up.
+pixel_xy project(const std::array<double, 3>& p, const std::array<double, 3>& eye, const std::array<double, 3>& target,
+                 double fov_degrees, const std::array<int, 4>& viewport, int image_height) {
+    using v3 = std::array<double, 3>;
+    auto sub = [](const v3& a, const v3& b) { return v3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    auto dot = [](const v3& a, const v3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    auto cross = [](const v3& a, const v3& b) { return v3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; };
+    auto unit = [&](const v3& a) {
+        const double l = std::sqrt(dot(a, a));
+        return v3{a[0] / l, a[1] / l, a[2] / l};
+    };
+    const v3 f = unit(sub(target, eye)), s = unit(cross(f, {0, 1, 0})), u = cross(s, f), d = sub(p, eye);
+    const double t = std::tan(fov_degrees * 3.14159265358979 / 360), aspect = double(viewport[2]) / viewport[3];
+    const double nx = dot(d, s) / (dot(d, f) * t * aspect), ny = dot(d, u) / (dot(d, f) * t);
+    return {viewport[0] + (nx + 1) / 2 * viewport[2], image_height - (viewport[1] + (ny + 1) / 2 * viewport[3])};
+}
+
+}  // namespace
+
+TEST(ViewerDrawing, ParticlesAtTheirProjectedPixelsInTheLegendsColors) {
+    const scratch_dir dir("viewer_drawing");
+    write_text(dir / "layer.json", layer_scene);
+    // Camera: target (0.5, 0.5, 0.5), 1.3 away, yawed 20 and pitched 15 degrees, fov 40.
+    write_text(dir / "script.json", R"({"steps_per_frame": 1, "actions": [
+        {"frame": 0, "do": "pause"},
+        {"frame": 0, "do": "camera", "target": [0.5, 0.5, 0.5], "distance": 1.3, "yaw": 20, "pitch": 15, "fov": 40},
+        {"frame": 0, "do": "color", "field": "id", "range": [0, 24]}]})");
+    const auto r = run_viewer(dir, "layer.json --script script.json --frames 3 --screenshot shot.png --state state.json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto state = read_json(dir / "state.json");
+    const frnn::sim::image img = frnn::sim::decode_png(slurp(dir / "shot.png"));
+    ASSERT_EQ(state.at("step"), 0);
+    const std::size_t n = state.at("particles");
+    ASSERT_EQ(n, 25u);  // a 5 x 5 layer
+    const auto& cam = state.at("camera");
+    const std::array<int, 4> vp = cam.at("viewport");
+    ASSERT_EQ(img.height, int(cam.at("height")));
+    const double pi = 3.14159265358979, yaw = 20 * pi / 180, pitch = 15 * pi / 180;
+    const std::array<double, 3> target{0.5, 0.5, 0.5};
+    const std::array<double, 3> eye{0.5 + 1.3 * std::cos(pitch) * std::sin(yaw), 0.5 + 1.3 * std::sin(pitch),
+                                    0.5 + 1.3 * std::cos(pitch) * std::cos(yaw)};
+    const std::array<double, 4> legend = state.at("legend").at("rect");
+    const auto& x = state.at("x");
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::array<double, 3> p{x[k * 3], x[k * 3 + 1], x[k * 3 + 2]};
+        const pixel_xy at = project(p, eye, target, 40, vp, img.height);
+        // The legend's color for value k of the range [0, 24].
+        const double lx = legend[0] + double(k) / 24 * (legend[2] - legend[0]), ly = 0.5 * (legend[1] + legend[3]);
+        const rgb expected = pixel(img, int(std::lround(std::clamp(lx, legend[0] + 1, legend[2] - 2))), int(ly));
+        // Pixels of that color near the projection: their centroid is the sphere's center.
+        double sx = 0, sy = 0;
+        int count = 0;
+        for (int y = int(at.y) - 15; y <= int(at.y) + 15; ++y)
+            for (int xx = int(at.x) - 15; xx <= int(at.x) + 15; ++xx)
+                if (xx >= 0 && y >= 0 && xx < img.width && y < img.height && color_distance(pixel(img, xx, y), expected) <= 6)
+                    sx += xx + 0.5, sy += y + 0.5, ++count;
+        ASSERT_GE(count, 5) << "particle " << k << ": no pixel of the legend's color near (" << at.x << ", " << at.y << ")";
+        EXPECT_NEAR(sx / count, at.x, 2.0) << "particle " << k;
+        EXPECT_NEAR(sy / count, at.y, 2.0) << "particle " << k;
+        EXPECT_LE(color_distance(pixel(img, int(at.x), int(at.y)), expected), 8) << "particle " << k;
+    }
+}
