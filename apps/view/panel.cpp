@@ -141,14 +141,18 @@ void viewer::draw_panel() {
     chosen_particles_ = std::clamp(chosen_particles_, 1, 1 << 22);
     if (button("Apply scene")) {
         try {
-            sim::scene next = std::size_t(chosen_scene_) < names.size() ? sim::builtin_scene(names[std::size_t(chosen_scene_)])
-                                                                      : sim::load_scene(opt_.scene_file);
+            const std::string chosen = std::size_t(chosen_scene_) < names.size() ? names[std::size_t(chosen_scene_)] : opt_.scene_file;
+            sim::scene next = std::size_t(chosen_scene_) < names.size() ? sim::builtin_scene(chosen) : sim::load_scene(chosen);
+            // The same scene keeps the solver parameters edited in the panel (its geometry is
+            // read again: a 2D scene's colliders are flattened and cannot go back to 3D).
+            if (chosen == scene_label_) next.viscoelastic = scene_.viscoelastic, next.sph = scene_.sph;
             sim::scene_overrides o;
             o.solver = chosen_solver_ == 1 ? sim::solver_kind::sph : sim::solver_kind::viscoelastic;
             o.dim = chosen_dim_;
             o.particles = std::size_t(chosen_particles_);
             sim::apply(next, o);
             switch_scene(std::move(next));
+            scene_label_ = chosen;
             message_.clear();
         } catch (const std::exception& e) {
             message_ = e.what();

@@ -106,7 +106,8 @@ viewer::viewer(const sim::scene& s, const view_options& o) : opt_(o), scene_(s) 
 
     const auto names = sim::builtin_scene_names();
     chosen_scene_ = int(std::find(names.begin(), names.end(), scene_.name) - names.begin());
-    if (opt_.scene_file.empty() == false) chosen_scene_ = int(names.size());  // "the file"
+    scene_label_ = opt_.scene_file.empty() ? scene_.name : opt_.scene_file;
+    if (!opt_.scene_file.empty()) chosen_scene_ = int(names.size());  // the file, listed after the shipped scenes
     chosen_solver_ = scene_.solver == sim::solver_kind::sph ? 1 : 0;
     chosen_dim_ = scene_.dim;
     chosen_particles_ = int(scene_.target_particles());
