@@ -192,6 +192,11 @@ void viewer::apply(const script_action& a) {
     } else if (w == "set") {
         const sim::parameter* p = sim::find_parameter(a.name);
         if (!p) throw error(opt_.script_file + ": frame " + std::to_string(a.frame) + ": no parameter '" + a.name + "'");
+        try {
+            sim::check_parameter_value(*p, a.value);
+        } catch (const error& e) {
+            throw error(opt_.script_file + ": frame " + std::to_string(a.frame) + ": " + e.what());
+        }
         p->set(scene_, a.value);
         runner_->set_parameter(*p, a.value);
     } else if (w == "gravity") {
@@ -220,7 +225,8 @@ void viewer::apply(const script_action& a) {
     } else if (w == "button") {
         const auto it = buttons_.find(a.text);
         if (it == buttons_.end())
-            throw error(opt_.script_file + ": frame " + std::to_string(a.frame) + ": no panel button '" + a.text + "'");
+            throw error(opt_.script_file + ": frame " + std::to_string(a.frame) + ": no panel button '" + a.text +
+                        "' (buttons exist from frame 1; Play and Pause share one)");
         // A real click on the button's center: press this frame, release the next.
         pointer_state p;
         p.x = 0.5 * (it->second[0] + it->second[2]);

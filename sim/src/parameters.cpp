@@ -3,6 +3,11 @@
 // on the shipped scenes (tests/sim/test_parameters.cpp runs them).
 #include "frnn/sim/parameters.hpp"
 
+#include <cmath>
+#include <sstream>
+
+#include "frnn/error.hpp"
+
 namespace frnn::sim {
 namespace {
 
@@ -109,6 +114,18 @@ const parameter* find_parameter(std::string_view name) {
     for (const auto& p : parameters())
         if (name.substr(0, dot) == p.section && name.substr(dot + 1) == p.key) return &p;
     return nullptr;
+}
+
+void check_parameter_value(const parameter& p, double value) {
+    const bool whole = p.kind == parameter_kind::real || value == std::floor(value);
+    if (std::isfinite(value) && value >= p.min && value <= p.max && whole) return;
+    std::ostringstream m;
+    m << "parameter " << p.name() << ": expected ";
+    if (p.kind == parameter_kind::real) m << "a number in [" << p.min << ", " << p.max << "]";
+    else if (p.kind == parameter_kind::boolean) m << "0 or 1";
+    else m << "an index from 0 to " << p.choices.size() - 1;
+    m << ", got " << value;
+    throw error(m.str());
 }
 
 std::string parameter_section(solver_kind k) { return k == solver_kind::sph ? "sph" : "viscoelastic"; }

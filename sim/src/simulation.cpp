@@ -22,6 +22,7 @@ void simulation::set_scene(scene s) {
 }
 
 bool simulation::set_parameter(const parameter& p, double value) {
+    check_parameter_value(p, value);
     scene next = scene_;
     p.set(next, value);
     if (p.section != parameter_section(scene_.solver)) {

@@ -113,3 +113,11 @@ TEST(SimSimulation, GravityChangesLive) {
     for (std::size_t k = 0; k < a.n; ++k) rise += b.x[k * 3 + 1] - a.x[k * 3 + 1];
     EXPECT_GT(rise / double(a.n), 0.5 * 9.81 * 0.004 * 0.004);
 }
+
+TEST(SimSimulation, ParameterOutsideItsRangeIsRefused) {
+    simulation sim(droplet_2d(), 1);
+    frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("sph.gamma"), 12); }, {"sph.gamma", "[1, 10]", "12"});
+    frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("sph.eos"), 2); }, {"sph.eos", "index from 0 to 1"});
+    frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("viscoelastic.springs"), 0.5); }, {"viscoelastic.springs", "0 or 1"});
+    EXPECT_EQ(sim.current_scene().sph.gamma, 7);
+}

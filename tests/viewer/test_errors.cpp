@@ -41,6 +41,11 @@ TEST(ViewerErrors, BadScriptNamesTheAction) {
     EXPECT_EQ(p.code, 1);
     EXPECT_EQ(lines(p.err), 1) << p.err;
     EXPECT_NE(p.err.find("no parameter 'sph.no_such'"), std::string::npos) << p.err;
+    write_text(dir / "script.json", R"({"actions": [{"frame": 1, "do": "set", "name": "sph.gamma", "value": 40}]})");
+    const auto g = run_viewer(dir, "--scene droplet --dim 2 --particles 200 --script script.json --frames 3");
+    EXPECT_EQ(g.code, 1);
+    EXPECT_EQ(lines(g.err), 1) << g.err;
+    EXPECT_NE(g.err.find("script.json: frame 1: parameter sph.gamma: expected a number in [1, 10], got 40"), std::string::npos) << g.err;
 }
 
 TEST(ViewerErrors, FrnnViewWithoutTheViewerSaysWhatItNeeds) {

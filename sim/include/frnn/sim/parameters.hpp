@@ -49,6 +49,9 @@ struct parameter {
 const std::vector<parameter>& parameters();
 /// The row named "section.key", or nullptr.
 const parameter* find_parameter(std::string_view name);
+/// Throws frnn::error naming the parameter when `value` is outside [min, max], or not a whole
+/// number for a boolean or a choice.
+void check_parameter_value(const parameter& p, double value);
 /// The section of a solver's parameters: "viscoelastic" or "sph".
 std::string parameter_section(solver_kind k);
 

@@ -44,6 +44,7 @@ public:
     void set_scene(scene s);
     /// Sets one parameter of the table. Returns true when the scene restarted (the parameter is
     /// not live, see parameter::live); a parameter of the other solver only changes the scene.
+    /// A value outside the parameter's range throws frnn::error and changes nothing.
     bool set_parameter(const parameter& p, double value);
     /// Sets the gravity from the next step on.
     void set_gravity(const vec3& g);
