@@ -30,9 +30,7 @@ viewer* owner(GLFWwindow* w) { return static_cast<viewer*>(glfwGetWindowUserPoin
 void key_callback(GLFWwindow* w, int key, int, int action, int) {
     if (action == GLFW_PRESS && !ImGui::GetIO().WantCaptureKeyboard) owner(w)->on_key(key);
 }
-void scroll_callback(GLFWwindow* w, double, double dy) {
-    if (!ImGui::GetIO().WantCaptureMouse) owner(w)->on_scroll(dy);
-}
+void scroll_callback(GLFWwindow* w, double, double dy) { owner(w)->on_scroll(dy); }
 
 int key_code(const std::string& name) {
     if (name == "space") return GLFW_KEY_SPACE;
@@ -250,7 +248,7 @@ void viewer::apply_actions() {
     }
 }
 
-void viewer::update_pointer() {
+pointer_state viewer::read_pointer() {
     pointer_state now;
     if (scripted_) {
         now = *scripted_;
@@ -262,6 +260,11 @@ void viewer::update_pointer() {
         glfwGetCursorPos(window_, &now.x, &now.y);
         for (int b = 0; b < 3; ++b) now.down[std::size_t(b)] = glfwGetMouseButton(window_, b) == GLFW_PRESS;
     }
+    return now;
+}
+
+void viewer::move_camera(const pointer_state& now) {
+    // After ImGui::NewFrame, which decides from this frame's pointer whether ImGui wants it.
     const bool imgui_wants = ImGui::GetIO().WantCaptureMouse;
     // A drag belongs to the camera when it starts outside the panel.
     if (drag_button_ < 0) {
@@ -273,7 +276,7 @@ void viewer::update_pointer() {
     const float dx = float(now.x - last_pointer_.x), dy = float(now.y - last_pointer_.y);
     if (drag_button_ == 0 && !cam_.plane_view()) cam_.orbit(dx, dy);
     else if (drag_button_ >= 0) cam_.pan(dx, dy, scene_viewport()[3]);
-    if (scroll_ != 0) cam_.zoom(float(scroll_));
+    if (scroll_ != 0 && !imgui_wants) cam_.zoom(float(scroll_));
     scroll_ = 0;
     last_pointer_ = now;
 }
@@ -340,8 +343,9 @@ void viewer::frame() {
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
-    update_pointer();
+    const pointer_state pointer = read_pointer();
     ImGui::NewFrame();
+    move_camera(pointer);
     draw_panel();
     draw_legend();
     ImGui::Render();

@@ -50,7 +50,9 @@ private:
     void frame();
     void apply_actions();
     void apply(const script_action& a);
-    void update_pointer();
+    /// The pointer of this frame (scripted or the mouse), also handed to ImGui.
+    pointer_state read_pointer();
+    void move_camera(const pointer_state& now);
     void refresh_particles();
     void draw_scene();
     /// The part of the window the scene is drawn in, left of the panel: x, y, width, height.
