@@ -169,6 +169,11 @@ void viewer::draw_panel() {
     std::snprintf(path, sizeof path, "%s", save_path_.c_str());
     if (ImGui::InputText("file", path, sizeof path)) save_path_ = path;
     if (button("Save scene")) save_scene(save_path_);
+    std::snprintf(path, sizeof path, "%s", state_path_.c_str());
+    if (ImGui::InputText("checkpoint", path, sizeof path)) state_path_ = path;
+    if (button("Save state")) save_state(state_path_);
+    ImGui::SameLine();
+    if (button("Load state")) load_state(state_path_);
     if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
 
     ImGui::Separator();

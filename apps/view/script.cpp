@@ -101,7 +101,7 @@ script_action read_action(const json& j, const std::string& where) {
         if (a.frames < 1) r.fail("key 'frames': expected at least 1");
     } else if (w == "button") {
         a.text = r.text("label");
-    } else if (w == "save_scene") {
+    } else if (w == "save_scene" || w == "save_state" || w == "load_state") {
         a.text = r.text("path");
     } else {
         r.fail("unknown action '" + w + "'");

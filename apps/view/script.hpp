@@ -11,7 +11,8 @@
 //   drag {"from": [x, y], "to": [x, y], "button": "left", "frames": k}
 //   scroll {"x": px, "y": px, "steps": s}
 //   button {"label": "Reset"}                                clicks the panel button with that label
-//   save_scene {"path": "out.json"}
+//   save_scene {"path": "out.json"}                          the scene JSON, for frnn sim
+//   save_state {"path": "x.bin"}, load_state {"path": ...}   a checkpoint (frnn sim's format)
 // A bad file throws frnn::error naming the file, the action's index and what was expected.
 #pragma once
 #include <array>

@@ -61,6 +61,25 @@ void sim_runner::set_parameter(const sim::parameter& p, double value) {
     send([&p, value](sim::simulation& s) { s.set_parameter(p, value); });
 }
 
+void sim_runner::save_checkpoint(const std::string& path) {
+    send([path](sim::simulation& s) { s.save_checkpoint(path); });
+}
+
+void sim_runner::load_checkpoint(const std::string& path) {
+    send([this, path](sim::simulation& s) {
+        s.load_checkpoint(path);
+        just_loaded_ = true;  // told to the drawing thread by publish(), with the new scene
+    });
+}
+
+bool sim_runner::take_loaded_scene(sim::scene& out) {
+    std::lock_guard lock(mutex_);
+    if (!loaded_) return false;
+    out = scene_;
+    loaded_ = false;
+    return true;
+}
+
 void sim_runner::set_gravity(const sim::vec3& g) {
     send([g](sim::simulation& s) { s.set_gravity(g); });
 }
@@ -115,6 +134,8 @@ void sim_runner::publish() {
     copy_seconds_ += dt;
     ++copies_;
     scene_ = sim_.current_scene();
+    loaded_ = loaded_ || just_loaded_;
+    just_loaded_ = false;
 }
 
 void sim_runner::loop() {

@@ -39,6 +39,11 @@ public:
     /// its message in last_error().
     void set_scene(const sim::scene& s);
     void set_parameter(const sim::parameter& p, double value);
+    /// Saves the state as a checkpoint (frnn sim's format) / replaces scene and state by one.
+    void save_checkpoint(const std::string& path);
+    void load_checkpoint(const std::string& path);
+    /// After a checkpoint was loaded: its scene, once (true then).
+    bool take_loaded_scene(sim::scene& out);
     void set_gravity(const sim::vec3& g);
     /// Simulated seconds per wall second while playing decoupled; 0: as fast as possible.
     void set_time_scale(double s);
@@ -75,7 +80,8 @@ private:
     std::condition_variable wake_, done_;
     std::vector<std::function<void(sim::simulation&)>> commands_;
     int pending_steps_ = 0;
-    bool quit_ = false, busy_ = false, fresh_ = false;
+    bool quit_ = false, busy_ = false, fresh_ = false, loaded_ = false;
+    bool just_loaded_ = false;  // simulation thread only
     std::atomic<bool> playing_{false}, in_step_{false};
     std::atomic<double> time_scale_{1.0};
     std::atomic<std::uint64_t> started_{0};

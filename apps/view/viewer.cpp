@@ -106,12 +106,7 @@ viewer::viewer(const sim::scene& s, const view_options& o) : opt_(o), scene_(s) 
     chosen_scene_ = int(std::find(names.begin(), names.end(), scene_.name) - names.begin());
     scene_label_ = opt_.scene_file.empty() ? scene_.name : opt_.scene_file;
     if (!opt_.scene_file.empty()) chosen_scene_ = int(names.size());  // the file, listed after the shipped scenes
-    chosen_solver_ = scene_.solver == sim::solver_kind::sph ? 1 : 0;
-    chosen_dim_ = scene_.dim;
-    chosen_particles_ = int(scene_.target_particles());
-    for (int a = 0; a < 3; ++a) gravity_[std::size_t(a)] = float(scene_.gravity[std::size_t(a)]);
-    cam_.frame({float(scene_.domain_min[0]), float(scene_.domain_min[1]), float(scene_.domain_min[2])},
-               {float(scene_.domain_max[0]), float(scene_.domain_max[1]), float(scene_.domain_max[2])}, scene_.dim == 2);
+    adopt_scene(scene_);
     playing_ = !opt_.paused;
     if (!script_) runner_->set_playing(playing_);
 }
@@ -157,8 +152,15 @@ void viewer::step() {
 void viewer::reset() { runner_->reset(); }
 
 void viewer::switch_scene(sim::scene next) {
+    runner_->set_scene(next);
+    adopt_scene(std::move(next));
+}
+
+void viewer::adopt_scene(sim::scene next) {
     scene_ = std::move(next);
-    runner_->set_scene(scene_);
+    chosen_solver_ = scene_.solver == sim::solver_kind::sph ? 1 : 0;
+    chosen_dim_ = scene_.dim;
+    chosen_particles_ = int(scene_.target_particles());
     for (int a = 0; a < 3; ++a) gravity_[std::size_t(a)] = float(scene_.gravity[std::size_t(a)]);
     cam_.frame({float(scene_.domain_min[0]), float(scene_.domain_min[1]), float(scene_.domain_min[2])},
                {float(scene_.domain_max[0]), float(scene_.domain_max[1]), float(scene_.domain_max[2])}, scene_.dim == 2);
@@ -173,6 +175,16 @@ void viewer::save_scene(const std::string& path) {
         message_ = e.what();
         if (script_) script_error_ = e.what();
     }
+}
+
+void viewer::save_state(const std::string& path) {
+    runner_->save_checkpoint(path);
+    message_ = "saving the state to " + path;
+}
+
+void viewer::load_state(const std::string& path) {
+    runner_->load_checkpoint(path);
+    message_ = "loading the state from " + path;
 }
 
 void viewer::apply(const script_action& a) {
@@ -236,6 +248,10 @@ void viewer::apply(const script_action& a) {
         std::stable_sort(pointer_events_.begin(), pointer_events_.end(), [](auto& x, auto& y) { return x.first < y.first; });
     } else if (w == "save_scene") {
         save_scene(a.text);
+    } else if (w == "save_state") {
+        save_state(a.text);
+    } else if (w == "load_state") {
+        load_state(a.text);
     }
 }
 
@@ -339,6 +355,8 @@ void viewer::frame() {
         playing_ = runner_->playing();  // a failing step paused the run
     }
     wait_seconds_ += seconds_since(t_wait);
+    sim::scene loaded;
+    if (runner_->take_loaded_scene(loaded)) adopt_scene(std::move(loaded));  // a checkpoint's scene
     refresh_particles();
 
     ImGui_ImplOpenGL3_NewFrame();

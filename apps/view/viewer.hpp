@@ -64,6 +64,10 @@ private:
     void save_screenshot(const std::string& path) const;
     void save_scene(const std::string& path);
     void switch_scene(sim::scene next);
+    /// Shows `next` in the panel and frames it (the simulation thread already has it).
+    void adopt_scene(sim::scene next);
+    void save_state(const std::string& path);
+    void load_state(const std::string& path);
     void toggle_play();
     void step();
     void reset();
@@ -88,7 +92,7 @@ private:
     float range_min_ = 0, range_max_ = 1, shown_min_ = 0, shown_max_ = 1;
     float time_scale_ = 1;
     std::array<float, 3> gravity_{0, 0, 0};
-    std::string save_path_ = "scene-saved.json", message_;
+    std::string save_path_ = "scene-saved.json", state_path_ = "viewer-checkpoint.bin", message_;
 
     sim::particle_snapshot snapshot_;
     std::vector<float> values_;

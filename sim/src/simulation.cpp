@@ -2,6 +2,10 @@
 #include "frnn/sim/simulation.hpp"
 
 #include <cmath>
+#include <fstream>
+
+#include "checkpoint.hpp"
+#include "frnn/error.hpp"
 
 namespace frnn::sim {
 
@@ -43,6 +47,27 @@ void simulation::set_gravity(const vec3& g) {
     next.gravity = g;
     solver_->set_parameters(next);
     scene_ = std::move(next);
+}
+
+void simulation::save_checkpoint(const std::string& path) const {
+    detail::checkpoint_header h;
+    h.scene_json = scene_to_json(scene_);
+    h.origin = "checkpoint " + path;
+    // No frames written yet: a run resumed from here writes its first frame after one step.
+    detail::write_checkpoint(path, h, *solver_);
+}
+
+void simulation::load_checkpoint(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw error("cannot open checkpoint '" + path + "'");
+    const detail::checkpoint_header h = detail::read_checkpoint_header(in, "'" + path + "'");
+    scene s = parse_scene(h.scene_json, h.origin);
+    apply(s, h.ov);
+    auto fresh = make_solver(s, threads_);
+    fresh->load(in);
+    scene_ = std::move(s);
+    solver_ = std::move(fresh);
+    prof_ = profiler();
 }
 
 void simulation::snapshot(particle_snapshot& out) const {

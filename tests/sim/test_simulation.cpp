@@ -3,9 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "expect_error.hpp"
+#include "frnn/sim/run.hpp"
 #include "frnn/sim/simulation.hpp"
+#include "scratch_dir.hpp"
 
 using namespace frnn::sim;
 
@@ -120,4 +124,55 @@ TEST(SimSimulation, ParameterOutsideItsRangeIsRefused) {
     frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("sph.eos"), 2); }, {"sph.eos", "index from 0 to 1"});
     frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("viscoelastic.springs"), 0.5); }, {"viscoelastic.springs", "0 or 1"});
     EXPECT_EQ(sim.current_scene().sph.gamma, 7);
+}
+
+TEST(SimSimulation, CheckpointRestoresTheStateBitForBit) {
+    const frnn::test::scratch_dir dir("sim_checkpoint");
+    simulation a(droplet_2d(), 1);
+    for (int k = 0; k < 5; ++k) a.step();
+    a.set_parameter(*find_parameter("viscoelastic.beta"), 0.45);
+    a.save_checkpoint((dir / "state.bin").string());
+    simulation b(builtin_scene("dam-break"), 1);  // another scene entirely
+    b.load_checkpoint((dir / "state.bin").string());
+    EXPECT_EQ(b.steps(), 5u);
+    EXPECT_EQ(b.current_scene().viscoelastic.beta, 0.45);
+    EXPECT_EQ(b.current_scene().dim, 2);
+    for (int k = 0; k < 3; ++k) a.step(), b.step();
+    particle_snapshot sa, sb;
+    a.snapshot(sa), b.snapshot(sb);
+    EXPECT_EQ(sa.x, sb.x);
+    EXPECT_EQ(sa.density, sb.density);
+}
+
+TEST(SimSimulation, FrnnSimResumesASavedCheckpoint) {
+    const frnn::test::scratch_dir dir("sim_checkpoint_resume");
+    scene s = droplet_2d();
+    s.steps = 8;
+    simulation a(s, 1), whole(s, 1);
+    for (int k = 0; k < 5; ++k) a.step();
+    std::filesystem::create_directories(dir / "run");
+    a.save_checkpoint((dir / "run" / "checkpoint.bin").string());
+    run_options o;
+    o.progress = false;
+    o.print_table = false;
+    const run_result r = resume((dir / "run").string(), o);  // to the scene's 8 steps
+    EXPECT_TRUE(r.finished);
+    EXPECT_EQ(r.steps, 8u);
+    for (int k = 0; k < 8; ++k) whole.step();
+    simulation after(s, 1);
+    after.load_checkpoint((dir / "run" / "checkpoint.bin").string());  // the run's final checkpoint
+    particle_snapshot sw, sa;
+    whole.snapshot(sw), after.snapshot(sa);
+    EXPECT_EQ(sa.step, 8u);
+    EXPECT_EQ(sw.x, sa.x);
+}
+
+TEST(SimSimulation, LoadingANonCheckpointNamesTheFileAndKeepsTheRun) {
+    const frnn::test::scratch_dir dir("sim_checkpoint_bad");
+    std::ofstream(dir / "not.bin") << "hello, world";
+    simulation sim(droplet_2d(), 1);
+    sim.step();
+    frnn::test::expect_error([&] { sim.load_checkpoint((dir / "not.bin").string()); }, {"not.bin", "not a frnn sim checkpoint"});
+    frnn::test::expect_error([&] { sim.load_checkpoint((dir / "missing.bin").string()); }, {"cannot open checkpoint", "missing.bin"});
+    EXPECT_EQ(sim.steps(), 1u);
 }

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "frnn/sim/parameters.hpp"
@@ -54,6 +55,14 @@ public:
     std::uint64_t steps() const { return solver_->steps(); }
     double time() const { return solver_->time(); }
     const profiler& timings() const { return prof_; }
+
+    /// Writes the scene (with its current parameters) and the full state to `path` in the
+    /// format of `frnn sim`'s checkpoint.bin: `frnn sim --resume DIR` continues a folder holding
+    /// it as checkpoint.bin, and load_checkpoint() restores it bit for bit.
+    void save_checkpoint(const std::string& path) const;
+    /// Replaces the scene and the state by those of a checkpoint (this one's or a run's). A file
+    /// that is not a checkpoint throws frnn::error naming it and leaves the simulation as it was.
+    void load_checkpoint(const std::string& path);
 
     /// Copies the particles into `out`, reusing its memory.
     void snapshot(particle_snapshot& out) const;
