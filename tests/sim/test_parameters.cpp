@@ -11,20 +11,11 @@
 #include "frnn/error.hpp"
 #include "frnn/sim/parameters.hpp"
 #include "frnn/sim/simulation.hpp"
+#include "small_scene.hpp"
 
 using namespace frnn::sim;
 
 namespace {
-scene small(const std::string& name, solver_kind solver, int dim, std::size_t particles) {
-    scene s = builtin_scene(name);
-    scene_overrides o;
-    o.solver = solver;
-    o.dim = dim;
-    o.particles = particles;
-    apply(s, o);
-    return s;
-}
-
 bool all_finite(const particle_snapshot& p) {
     for (float v : p.x)
         if (!std::isfinite(v)) return false;
@@ -84,7 +75,7 @@ TEST(SimParameters, ParserReadsThroughTheTable) {
 TEST(SimParameters, SavedSceneParsesBackEqual) {
     for (const auto& name : builtin_scene_names())
         for (int dim : {2, 3}) {
-            scene s = small(name, solver_kind::sph, dim, 700);
+            scene s = frnn::test::small_scene(name, solver_kind::sph, dim, 700);
             find_parameter("viscoelastic.beta")->set(s, 0.1 + 1.0 / 3);
             const std::string text = scene_to_json(s);
             const scene back = parse_scene(text, "saved.json");
@@ -103,21 +94,24 @@ TEST(SimParameters, SavedSceneParsesBackEqual) {
 TEST(SimParameters, EveryParameterAtEachEndOfItsRangeStaysFinite) {
     for (const auto& p : parameters()) {
         const bool sph = p.section == "sph";
-        for (int dim : {2, 3})
-        for (double value : {p.ui_min, p.ui_max}) {
-            scene s = small(sph ? "dam-break" : "block-drop", sph ? solver_kind::sph : solver_kind::viscoelastic, dim, 300);
-            p.set(s, value);
-            simulation sim(s, 1);
-            particle_snapshot snap;
-            try {
-                for (int k = 0; k < 100; ++k) sim.step();
-            } catch (const frnn::error& e) {
-                ADD_FAILURE() << dim << "D, " << p.name() << " = " << value << ": " << e.what();
-                continue;
+        const char* name = sph ? "dam-break" : "block-drop";
+        const solver_kind solver = sph ? solver_kind::sph : solver_kind::viscoelastic;
+        for (int dim : {2, 3}) {
+            for (double value : {p.ui_min, p.ui_max}) {
+                scene s = frnn::test::small_scene(name, solver, dim, 300);
+                p.set(s, value);
+                simulation sim(s, 1);
+                try {
+                    for (int k = 0; k < 100; ++k) sim.step();
+                } catch (const frnn::error& e) {
+                    ADD_FAILURE() << dim << "D, " << p.name() << " = " << value << ": " << e.what();
+                    continue;
+                }
+                particle_snapshot snap;
+                sim.snapshot(snap);
+                EXPECT_EQ(snap.step, 100u);
+                EXPECT_TRUE(all_finite(snap)) << dim << "D, " << p.name() << " = " << value;
             }
-            sim.snapshot(snap);
-            EXPECT_EQ(snap.step, 100u);
-            EXPECT_TRUE(all_finite(snap)) << dim << "D, " << p.name() << " = " << value;
         }
     }
 }
