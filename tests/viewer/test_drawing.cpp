@@ -116,3 +116,41 @@ TEST(ViewerDrawing, PlaneViewOfA2DScene) {
         return pixel_xy{vp[0] + 0.5 * vp[2] + (p[0] - target[0]) * scale, img.height - (vp[1] + 0.5 * vp[3] + (p[1] - target[1]) * scale)};
     });
 }
+
+TEST(ViewerDrawing, CollidersAreOutlinedWhereTheyAre) {
+    const scratch_dir dir("viewer_drawing_colliders");
+    // A 2D scene: a box obstacle and a ball, fluid far from both, no gravity.
+    write_text(dir / "scene.json", R"({"name": "outlines", "dim": 2, "particles": 16, "gravity": [0, 0, 0],
+        "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "fluid": [{"type": "box", "min": [0.05, 0.05, 0], "max": [0.15, 0.15, 0]}],
+        "colliders": [{"type": "box", "center": [0.5, 0.4, 0], "half": [0.3, 0.1, 0.5]},
+                      {"type": "sphere", "center": [0.6, 0.75, 0], "radius": 0.1}]})");
+    write_text(dir / "script.json", R"({"steps_per_frame": 1, "actions": [{"frame": 0, "do": "pause"}]})");
+    const auto r = run_viewer(dir, "scene.json --script script.json --frames 3 --screenshot shot.png --state state.json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto state = read_json(dir / "state.json");
+    const frnn::sim::image img = frnn::sim::decode_png(slurp(dir / "shot.png"));
+    const auto& cam = state.at("camera");
+    const std::array<int, 4> vp = cam.at("viewport");
+    const std::array<double, 3> target = cam.at("target");
+    const double scale = vp[3] / (2 * cam.at("half_height").get<double>());
+    const auto px = [&](double x, double y) {
+        return pixel_xy{vp[0] + 0.5 * vp[2] + (x - target[0]) * scale, img.height - (vp[1] + 0.5 * vp[3] + (y - target[1]) * scale)};
+    };
+    // The outline color (orange) within 1 px of a point of a collider's outline.
+    const auto outlined = [&](double x, double y) {
+        const pixel_xy p = px(x, y);
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+                if (color_distance(pixel(img, int(p.x) + dx, int(p.y) + dy), {230, 153, 77}) <= 12) return true;
+        return false;
+    };
+    for (double t : {0.1, 0.35, 0.6, 0.85}) {
+        EXPECT_TRUE(outlined(0.2 + 0.6 * t, 0.3)) << "box bottom edge at " << t;
+        EXPECT_TRUE(outlined(0.2 + 0.6 * t, 0.5)) << "box top edge at " << t;
+        const double a = 6.2831853 * t;
+        EXPECT_TRUE(outlined(0.6 + 0.1 * std::cos(a), 0.75 + 0.1 * std::sin(a))) << "circle at angle " << a;
+    }
+    EXPECT_FALSE(outlined(0.5, 0.4)) << "inside the box";
+    EXPECT_FALSE(outlined(0.6, 0.75)) << "inside the ball";
+}
