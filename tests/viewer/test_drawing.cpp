@@ -1,6 +1,7 @@
 // What the viewer draws: each particle at its projected pixel, in the legend's color for its
-// field value (3D perspective and 2D plane view), and the colliders' outlines where they are. The projection is computed here from the camera the script sets (not from the
-// viewer's matrices), and the expected colors are read from the legend in the same picture.
+// field value (3D perspective and 2D plane view), and the colliders' outlines where they are.
+// The projection is computed here from the camera the script sets (not from the viewer's
+// matrices), and the expected colors are read from the legend in the same picture.
 #include <gtest/gtest.h>
 
 #include <algorithm>
