@@ -15,7 +15,6 @@
 
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
-#include "gl.hpp"
 #include "line_renderer.hpp"
 #include "particle_renderer.hpp"
 
