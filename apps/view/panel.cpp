@@ -43,6 +43,23 @@ void viewer::draw_legend() {
     d->AddText(ImVec2(0.5f * (x0 + x1) - 0.5f * ImGui::CalcTextSize(name).x, y0 - 16), IM_COL32(230, 230, 230, 255), name);
 }
 
+void viewer::draw_pick_marker() {
+    if (!picked_ || *picked_ >= snapshot_.n) return;
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_, &w, &h);
+    const auto vp = scene_viewport();
+    const mat4 projection = cam_.projection(float(vp[2]) / float(vp[3]));
+    const mat4 m = multiply(projection, cam_.view());
+    const float* p = &snapshot_.x[*picked_ * 3];
+    float clip[4];
+    for (int r = 0; r < 4; ++r) clip[r] = m[std::size_t(r)] * p[0] + m[std::size_t(4 + r)] * p[1] + m[std::size_t(8 + r)] * p[2] + m[std::size_t(12 + r)];
+    if (clip[3] <= 0) return;  // behind the camera
+    const float x = float(vp[0]) + (clip[0] / clip[3] + 1) / 2 * float(vp[2]);
+    const float y = float(h) - (float(vp[1]) + (clip[1] / clip[3] + 1) / 2 * float(vp[3]));
+    const float r = float(0.5 * snapshot_.spacing) * projection[5] * float(vp[3]) / 2 / clip[3];
+    ImGui::GetForegroundDrawList()->AddCircle(ImVec2(x, y), r + 3, IM_COL32(255, 255, 255, 255), 32, 2);
+}
+
 void viewer::draw_parameters() {
     const std::string active = sim::parameter_section(scene_.solver);
     for (const char* section : {"viscoelastic", "sph"}) {
@@ -104,6 +121,15 @@ void viewer::draw_panel() {
     ImGui::Text("%s: %s %dD, %zu particles", scene_.name.c_str(), sim::to_string(scene_.solver).c_str(), scene_.dim, snapshot_.n);
     ImGui::Text("step %llu, t = %.4f s, %.0f fps", (unsigned long long)snapshot_.step, snapshot_.time, double(ImGui::GetIO().Framerate));
     ImGui::Text("step %.2f ms, copy %.2f ms", runner_->mean_step_ms(), runner_->mean_copy_ms());
+    if (picked_ && *picked_ < snapshot_.n) {
+        const std::size_t k = *picked_;
+        ImGui::Text("particle %zu at (%.4g, %.4g, %.4g)", k, double(snapshot_.x[k * 3]), double(snapshot_.x[k * 3 + 1]),
+                    double(snapshot_.x[k * 3 + 2]));
+        ImGui::Text("speed %.4g, density %.4g, pressure %.4g, %u neighbors", double(snapshot_.speed[k]),
+                    double(snapshot_.density[k]), double(snapshot_.pressure[k]), snapshot_.neighbors[k]);
+    } else {
+        ImGui::TextDisabled("click a particle to see its fields");
+    }
     const std::string err = runner_->last_error();
     if (!err.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", err.c_str());
 

@@ -7,7 +7,7 @@
 //   color {"field": "speed", "range": [lo, hi]}             fixed range; without "range": auto
 //   camera {"target": [x,y,z], "distance": d, "yaw": deg, "pitch": deg, "fov": deg}
 //   key {"key": "space"}                                     as if typed (see docs/VIEWER.md)
-//   click {"x": px, "y": px, "button": "left"}              press now, release next frame
+//   click {"x": px, "y": px, "button": "left"}              press now, release next frame (left: picks)
 //   drag {"from": [x, y], "to": [x, y], "button": "left", "frames": k}
 //   scroll {"x": px, "y": px, "steps": s}
 //   button {"label": "Reset"}                                clicks the panel button with that label

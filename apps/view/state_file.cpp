@@ -58,6 +58,7 @@ void viewer::write_state(const std::string& path) const {
                    {"min", shown_min_},
                    {"max", shown_max_},
                    {"rect", legend_rect_}};
+    j["picked"] = picked_ ? json(*picked_) : json(nullptr);
     j["frames"] = frame_;
     j["max_frames_in_one_step"] = max_frames_in_step_;
     j["playing"] = playing_;

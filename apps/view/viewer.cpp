@@ -17,6 +17,7 @@
 #include "frnn/sim/output.hpp"
 #include "line_renderer.hpp"
 #include "particle_renderer.hpp"
+#include "picking.hpp"
 
 namespace frnn::view {
 namespace {
@@ -288,16 +289,25 @@ pointer_state viewer::read_pointer() {
 void viewer::move_camera(const pointer_state& now) {
     // After ImGui::NewFrame, which decides from this frame's pointer whether ImGui wants it.
     const bool imgui_wants = ImGui::GetIO().WantCaptureMouse;
-    // A drag belongs to the camera when it starts outside the panel.
-    if (drag_button_ < 0) {
+    // The camera moves by the pointer's motion since the last frame of a drag already under
+    // way: where the pointer was before the press (a jump, under a script) does not count.
+    const int dragging = drag_button_;
+    const float dx = float(now.x - last_pointer_.x), dy = float(now.y - last_pointer_.y);
+    if (dragging == 0 && !cam_.plane_view()) cam_.orbit(dx, dy);
+    else if (dragging >= 0) cam_.pan(dx, dy, scene_viewport()[3]);
+    if (dragging < 0) {
+        // A drag belongs to the camera when it starts outside the panel.
         for (int b = 0; b < 3; ++b)
-            if (now.down[std::size_t(b)] && !last_pointer_.down[std::size_t(b)] && !imgui_wants) drag_button_ = b;
-    } else if (!now.down[std::size_t(drag_button_)]) {
+            if (now.down[std::size_t(b)] && !last_pointer_.down[std::size_t(b)] && !imgui_wants) drag_button_ = b, press_ = now;
+    } else if (!now.down[std::size_t(dragging)]) {
+        // A left press released where it began (within 3 px) is a click: pick a particle.
+        if (dragging == 0 && std::hypot(now.x - press_.x, now.y - press_.y) <= 3) {
+            int w = 0, h = 0;
+            glfwGetFramebufferSize(window_, &w, &h);
+            picked_ = pick_particle(snapshot_, float(0.5 * snapshot_.spacing), cam_, scene_viewport(), h, now.x, now.y);
+        }
         drag_button_ = -1;
     }
-    const float dx = float(now.x - last_pointer_.x), dy = float(now.y - last_pointer_.y);
-    if (drag_button_ == 0 && !cam_.plane_view()) cam_.orbit(dx, dy);
-    else if (drag_button_ >= 0) cam_.pan(dx, dy, scene_viewport()[3]);
     if (scroll_ != 0 && !imgui_wants) cam_.zoom(float(scroll_));
     scroll_ = 0;
     last_pointer_ = now;
@@ -372,6 +382,7 @@ void viewer::frame() {
     move_camera(pointer);
     draw_panel();
     draw_legend();
+    draw_pick_marker();
     ImGui::Render();
 
     const auto t_draw = clock_type::now();

@@ -59,6 +59,8 @@ private:
     std::array<int, 4> scene_viewport() const;
     void draw_panel();
     void draw_legend();
+    /// A ring around the picked particle.
+    void draw_pick_marker();
     void draw_parameters();
     void write_state(const std::string& path) const;
     void save_screenshot(const std::string& path) const;
@@ -104,6 +106,8 @@ private:
     std::vector<std::pair<long, pointer_state>> pointer_events_;  // (frame, state), sorted
     pointer_state last_pointer_;
     int drag_button_ = -1;
+    pointer_state press_;  // where the camera's drag began: a release there is a click (picks)
+    std::optional<std::size_t> picked_;  // particle id
     double scroll_ = 0;
     std::map<std::string, std::array<float, 4>> buttons_;  // panel button rects by label
     std::array<float, 4> legend_rect_{0, 0, 0, 0};

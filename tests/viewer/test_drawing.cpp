@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "projection.hpp"
 #include "viewer_run.hpp"
 
 using namespace frnn::test;
@@ -17,27 +18,6 @@ namespace {
 const char* layer_scene = R"({"name": "layer", "dim": 3, "particles": 16, "gravity": [0, 0, 0],
   "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
   "fluid": [{"type": "box", "min": [0.2, 0.2, 0.45], "max": [0.8, 0.8, 0.55]}]})";
-
-struct pixel_xy {
-    double x, y;  // from the image's top-left
-};
-
-/// Perspective projection of p for a camera at `eye` looking at `target` with y up.
-pixel_xy project(const std::array<double, 3>& p, const std::array<double, 3>& eye, const std::array<double, 3>& target,
-                 double fov_degrees, const std::array<int, 4>& viewport, int image_height) {
-    using v3 = std::array<double, 3>;
-    auto sub = [](const v3& a, const v3& b) { return v3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
-    auto dot = [](const v3& a, const v3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-    auto cross = [](const v3& a, const v3& b) { return v3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; };
-    auto unit = [&](const v3& a) {
-        const double l = std::sqrt(dot(a, a));
-        return v3{a[0] / l, a[1] / l, a[2] / l};
-    };
-    const v3 f = unit(sub(target, eye)), s = unit(cross(f, {0, 1, 0})), u = cross(s, f), d = sub(p, eye);
-    const double t = std::tan(fov_degrees * 3.14159265358979 / 360), aspect = double(viewport[2]) / viewport[3];
-    const double nx = dot(d, s) / (dot(d, f) * t * aspect), ny = dot(d, u) / (dot(d, f) * t);
-    return {viewport[0] + (nx + 1) / 2 * viewport[2], image_height - (viewport[1] + (ny + 1) / 2 * viewport[3])};
-}
 
 /// Each particle k of the state, colored by id over [0, n - 1], shows the legend's color for k
 /// at the pixel `at(position)`: the centroid of the pixels of that color near it lies within
@@ -87,10 +67,7 @@ TEST(ViewerDrawing, ParticlesAtTheirProjectedPixelsInTheLegendsColors) {
     const auto& cam = state.at("camera");
     const std::array<int, 4> vp = cam.at("viewport");
     ASSERT_EQ(img.height, int(cam.at("height")));
-    const double pi = 3.14159265358979, yaw = 20 * pi / 180, pitch = 15 * pi / 180;
-    const std::array<double, 3> target{0.5, 0.5, 0.5};
-    const std::array<double, 3> eye{0.5 + 1.3 * std::cos(pitch) * std::sin(yaw), 0.5 + 1.3 * std::sin(pitch),
-                                    0.5 + 1.3 * std::cos(pitch) * std::cos(yaw)};
+    const std::array<double, 3> target{0.5, 0.5, 0.5}, eye = orbit_eye(target, 1.3, 20, 15);
     expect_particles_at(state, img, [&](const std::array<double, 3>& p) { return project(p, eye, target, 40, vp, img.height); });
 }
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "projection.hpp"
 #include "viewer_run.hpp"
 
 using namespace frnn::test;
@@ -30,8 +31,13 @@ TEST(ViewerInput, DragsAndWheelMoveTheCameraOnlyOverTheScene) {
     const auto home = camera_after(dir, "");
     // The window is 960 x 600 with the panel on its right 380 pixels (text at its top).
     const auto orbit = camera_after(dir, R"({"frame": 2, "do": "drag", "from": [200, 300], "to": [320, 300], "frames": 5})");
-    EXPECT_GT(distance(orbit.at("eye"), home.at("eye")), 0.1);
     EXPECT_EQ(orbit.at("target"), home.at("target"));  // orbiting keeps the target
+    // 120 pixels to the right turn the view 36 degrees (0.3 a pixel) from the home yaw of 30
+    // degrees, at the home pitch of 20 and the home distance.
+    const std::array<double, 3> target = home.at("target");
+    const double d = distance(home.at("eye"), home.at("target"));
+    const auto expected = orbit_eye(target, d, 30 - 36, 20);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(orbit.at("eye")[a].get<double>(), expected[std::size_t(a)], 1e-4) << a;
     const auto pan = camera_after(dir, R"({"frame": 2, "do": "drag", "from": [200, 300], "to": [260, 340], "button": "right"})");
     EXPECT_GT(distance(pan.at("target"), home.at("target")), 0.01);
     const auto zoom = camera_after(dir, R"({"frame": 2, "do": "scroll", "x": 200, "y": 300, "steps": 3})");
