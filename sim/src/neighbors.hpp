@@ -24,6 +24,10 @@ public:
     const std::uint32_t* begin(std::size_t i) const { return lists_.indices.data() + lists_.offsets[i]; }
     const std::uint32_t* end(std::size_t i) const { return lists_.indices.data() + lists_.offsets[i + 1]; }
     std::size_t pairs() const { return lists_.size(); }
+    /// Neighbors of sorted particle i; 0 before the first build.
+    std::uint32_t count(std::size_t i) const {
+        return i + 1 < lists_.offsets.size() ? std::uint32_t(lists_.offsets[i + 1] - lists_.offsets[i]) : 0;
+    }
 
 private:
     csr<float> lists_;

@@ -14,6 +14,7 @@
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
 #include "frnn/parallel.hpp"
+#include "frnn/sim/parameters.hpp"
 #include "frnn/sim/solver.hpp"
 #include "neighbors.hpp"
 #include "parallel.hpp"
@@ -67,8 +68,23 @@ public:
     double last_dt() const override { return last_dt_; }
     double spacing() const override { return spacing_; }
     const scene& get_scene() const override { return scene_; }
+    std::uint32_t neighbor_count(std::size_t i) const override { return neighbors_.count(i); }
+
+    void set_parameters(const scene& s) override {
+        const std::string section = parameter_section(scene_.solver);
+        for (const auto& p : parameters())
+            if (p.section == section && !p.live && p.get(s) != p.get(scene_))
+                throw error("parameter " + p.name() + " cannot change while the scene runs; restart the scene");
+        scene_.viscoelastic = s.viscoelastic;
+        scene_.sph = s.sph;
+        scene_.gravity = s.gravity;
+        parameters_changed();
+    }
 
 protected:
+    /// Called after set_parameters() changed scene_: the solver copies what it reads per step.
+    virtual void parameters_changed() = 0;
+
     /// Builds (first call) or rebuilds the grid over x and permutes x and every extra array
     /// (components per particle given with it) into cell order.
     template <class... Arrays>

@@ -17,6 +17,7 @@
 #include "frnn/parallel.hpp"
 #include "frnn/sim/output.hpp"
 #include "frnn/sim/solver.hpp"
+#include "checkpoint.hpp"
 #include "particle_solver.hpp"
 
 namespace frnn::sim {
@@ -51,66 +52,10 @@ double front_deviation(const std::vector<std::pair<double, double>>& front, doub
 
 namespace {
 
-struct run_state {
-    std::string scene_json, origin;
-    scene_overrides ov;
-    std::vector<std::pair<double, std::string>> frames;
-    double next_frame_time = 0;
-    std::vector<std::pair<double, double>> front;
-    double next_front_T = 0;
-};
-
-json overrides_to_json(const scene_overrides& o) {
-    json j = json::object();
-    if (o.solver) j["solver"] = to_string(*o.solver);
-    if (o.dim) j["dim"] = *o.dim;
-    if (o.particles) j["particles"] = *o.particles;
-    if (o.steps) j["steps"] = *o.steps;
-    if (o.duration) j["duration"] = *o.duration;
-    if (o.every) j["every"] = *o.every;
-    return j;
-}
-scene_overrides overrides_from_json(const json& j) {
-    scene_overrides o;
-    if (j.contains("solver")) o.solver = j["solver"] == "sph" ? solver_kind::sph : solver_kind::viscoelastic;
-    if (j.contains("dim")) o.dim = j["dim"].get<int>();
-    if (j.contains("particles")) o.particles = j["particles"].get<std::size_t>();
-    if (j.contains("steps")) o.steps = j["steps"].get<std::uint64_t>();
-    if (j.contains("duration")) o.duration = j["duration"].get<double>();
-    if (j.contains("every")) o.every = j["every"].get<int>();
-    return o;
-}
-
-constexpr char magic[8] = {'F', 'R', 'N', 'N', 'S', 'I', 'M', '1'};
-
-void write_string(std::ostream& o, const std::string& s) {
-    detail::write_pod(o, std::uint64_t(s.size()));
-    o.write(s.data(), std::streamsize(s.size()));
-}
-std::string read_string(std::istream& in) {
-    std::uint64_t n = 0;
-    detail::read_pod(in, n);
-    if (n > (1u << 30)) throw error("checkpoint: corrupt string length");
-    std::string s(n, '\0');
-    in.read(s.data(), std::streamsize(n));
-    if (!in) throw error("checkpoint: truncated");
-    return s;
-}
+using run_state = detail::checkpoint_header;
 
 void save_checkpoint(const std::string& dir, const run_state& st, const solver& sol) {
-    std::ostringstream o(std::ios::binary);
-    o.write(magic, 8);
-    write_string(o, st.scene_json);
-    write_string(o, st.origin);
-    json meta;
-    meta["overrides"] = overrides_to_json(st.ov);
-    meta["frames"] = st.frames;
-    meta["front"] = st.front;
-    write_string(o, meta.dump());
-    detail::write_pod(o, st.next_frame_time);
-    detail::write_pod(o, st.next_front_T);
-    sol.save(o);
-    write_file_atomic(dir + "/checkpoint.bin", o.str());
+    detail::write_checkpoint(dir + "/checkpoint.bin", st, sol);
 }
 
 std::string frame_name(std::size_t k, const char* ext) {
@@ -424,18 +369,7 @@ run_result run(const std::string& scene_json, const std::string& origin, const s
 run_result resume(const std::string& dir, const run_options& opt) {
     std::ifstream in(dir + "/checkpoint.bin", std::ios::binary);
     if (!in) throw error("--resume: no checkpoint in '" + dir + "' (expected " + dir + "/checkpoint.bin)");
-    char m[8] = {};
-    in.read(m, 8);
-    if (!in || std::string(m, 8) != std::string(magic, 8)) throw error("--resume: '" + dir + "/checkpoint.bin' is not a frnn sim checkpoint");
-    run_state st;
-    st.scene_json = read_string(in);
-    st.origin = read_string(in);
-    const json meta = json::parse(read_string(in));
-    st.ov = overrides_from_json(meta.at("overrides"));
-    st.frames = meta.at("frames").get<std::vector<std::pair<double, std::string>>>();
-    st.front = meta.at("front").get<std::vector<std::pair<double, double>>>();
-    detail::read_pod(in, st.next_frame_time);
-    detail::read_pod(in, st.next_front_T);
+    run_state st = detail::read_checkpoint_header(in, "--resume: '" + dir + "/checkpoint.bin'");
     scene sc = parse_scene(st.scene_json, st.origin);
     apply(sc, st.ov);
     auto sol = make_solver(sc, opt.threads);
@@ -444,7 +378,7 @@ run_result resume(const std::string& dir, const run_options& opt) {
     if (opt.write_frames && !st.frames.empty()) write_pvd(dir + "/particles.pvd", st.frames);
     if (opt.progress)
         std::fprintf(stderr, "frnn sim: resuming %s at step %llu (t = %.4f s, frame %zu)\n", dir.c_str(),
-                     (unsigned long long)sol->steps(), sol->time(), st.frames.size() - 1);
+                     (unsigned long long)sol->steps(), sol->time(), st.frames.empty() ? 0 : st.frames.size() - 1);
     return execute(st, *sol, opt, dir, true);
 }
 

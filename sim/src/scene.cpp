@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "frnn/error.hpp"
+#include "frnn/sim/parameters.hpp"
 
 namespace frnn::sim {
 
@@ -171,6 +172,23 @@ fluid_block read_block(reader& r) {
     return b;
 }
 
+/// The keys of a solver section, through the parameter table (so a new row is parsed too).
+void read_parameters(reader& r, const std::string& section, scene& s) {
+    for (const auto& p : parameters()) {
+        if (p.section != section) continue;
+        switch (p.kind) {
+        case parameter_kind::real: p.set(s, r.number(p.key, p.get(s), p.min, p.max)); break;
+        case parameter_kind::boolean: p.set(s, r.boolean(p.key, p.get(s) != 0) ? 1 : 0); break;
+        case parameter_kind::choice: {
+            const std::string name = r.choice(p.key, p.choices[std::size_t(p.get(s))], p.choices);
+            p.set(s, double(std::find(p.choices.begin(), p.choices.end(), name) - p.choices.begin()));
+            break;
+        }
+        }
+    }
+    r.finish();
+}
+
 }  // namespace
 
 std::string to_string(solver_kind k) { return k == solver_kind::sph ? "sph" : "viscoelastic"; }
@@ -224,41 +242,11 @@ scene parse_scene(const std::string& text, const std::string& origin) {
             s.colliders.push_back(read_collider(c));
         }
     }
-    if (r.has("viscoelastic")) {
-        reader v(r.at("viscoelastic"), "viscoelastic", origin);
-        auto& p = s.viscoelastic;
-        p.h_ratio = v.number("h_ratio", p.h_ratio, 1.0, 4.0);
-        p.dt = v.number("dt", p.dt, 1e-7, 1);
-        p.cfl = v.number("cfl", p.cfl, 0, 1);
-        p.stiffness = v.number("stiffness", p.stiffness, 0);
-        p.near_stiffness = v.number("near_stiffness", p.near_stiffness, 0);
-        p.rest_density = v.number("rest_density", p.rest_density, 0);
-        p.sigma = v.number("sigma", p.sigma, 0);
-        p.beta = v.number("beta", p.beta, 0);
-        p.springs = v.boolean("springs", p.springs);
-        p.spring_stiffness = v.number("spring_stiffness", p.spring_stiffness, 0, 1);
-        p.yield_ratio = v.number("yield_ratio", p.yield_ratio, 0);
-        p.plasticity = v.number("plasticity", p.plasticity, 0);
-        v.finish();
-    }
-    if (r.has("sph")) {
-        reader v(r.at("sph"), "sph", origin);
-        auto& p = s.sph;
-        p.h_ratio = v.number("h_ratio", p.h_ratio, 0.5, 2.5);
-        p.eos = v.choice("eos", "tait", {"tait", "ideal"}) == "tait" ? sph_params::eos_t::tait : sph_params::eos_t::ideal;
-        p.rest_density = v.number("rest_density", p.rest_density, 1e-9);
-        p.sound_speed = v.number("sound_speed", p.sound_speed, 0);
-        p.gamma = v.number("gamma", p.gamma, 1, 10);
-        p.alpha = v.number("alpha", p.alpha, 0, 10);
-        p.integrator = v.choice("integrator", "symplectic-euler", {"symplectic-euler", "leapfrog"}) == "leapfrog"
-                           ? sph_params::integrator_t::leapfrog
-                           : sph_params::integrator_t::symplectic_euler;
-        p.cfl = v.number("cfl", p.cfl, 1e-3, 1);
-        p.max_dt = v.number("max_dt", p.max_dt, 1e-9, 1);
-        p.clamp_negative_pressure = v.boolean("clamp_negative_pressure", p.clamp_negative_pressure);
-        p.wall_density = v.boolean("wall_density", p.wall_density);
-        v.finish();
-    }
+    for (const char* section : {"viscoelastic", "sph"})
+        if (r.has(section)) {
+            reader v(r.at(section), section, origin);
+            read_parameters(v, section, s);
+        }
     if (r.has("front")) {
         reader f(r.at("front"), "front", origin);
         s.front.enabled = f.boolean("enabled", true);

@@ -79,6 +79,8 @@ public:
     }
 
 private:
+    void parameters_changed() override { prm_ = this->scene_.sph; }
+
     void finish(profiler& prof, double dt) {
         this->time_ += dt;
         this->last_dt_ = dt;

@@ -84,6 +84,8 @@ public:
     }
 
 private:
+    void parameters_changed() override { prm_ = this->scene_.viscoelastic; }
+
     /// The scene's dt, shortened so no particle moves more than cfl * h in one step (the
     /// relaxation only corrects displacements that are small against h).
     double time_step() const {

@@ -10,20 +10,11 @@
 
 #include "frnn/error.hpp"
 #include "frnn/sim/solver.hpp"
+#include "small_scene.hpp"
 
 using namespace frnn::sim;
 
 namespace {
-
-scene small(const std::string& name, solver_kind solver, int dim, std::size_t particles) {
-    scene s = builtin_scene(name);
-    scene_overrides o;
-    o.solver = solver;
-    o.dim = dim;
-    o.particles = particles;
-    apply(s, o);
-    return s;
-}
 
 /// Positions in particle-id order.
 std::vector<float> positions_by_id(const solver& s) {
@@ -57,7 +48,7 @@ std::string label(const case_t& c) {
 
 TEST(SimSolvers, IdenticalPositionsAtOneTwoAndThreeThreadsAfter50Steps) {
     for (const auto& c : cases) {
-        const scene s = small(c.scene, c.solver, c.dim, c.particles);
+        const scene s = frnn::test::small_scene(c.scene, c.solver, c.dim, c.particles);
         // Three threads on a 2-core machine: the pool's workers are often pushed aside.
         auto one = make_solver(s, 1), two = make_solver(s, 2), three = make_solver(s, 3);
         profiler p1, p2, p3;
@@ -77,7 +68,7 @@ TEST(SimSolvers, IdenticalPositionsAtOneTwoAndThreeThreadsAfter50Steps) {
 
 TEST(SimSolvers, ParticleCountAndIdsConserved) {
     for (const auto& c : cases) {
-        auto sol = make_solver(small(c.scene, c.solver, c.dim, c.particles), 2);
+        auto sol = make_solver(frnn::test::small_scene(c.scene, c.solver, c.dim, c.particles), 2);
         const std::size_t n = sol->view().n;
         profiler p;
         for (int k = 0; k < 30; ++k) sol->step(p);
@@ -94,7 +85,7 @@ TEST(SimSolvers, NoParticleLeaksThroughColliders) {
     for (const auto& name : builtin_scene_names())
         for (solver_kind solver : {solver_kind::viscoelastic, solver_kind::sph})
             for (int dim : {2, 3}) {
-                const scene s = small(name, solver, dim, dim == 2 ? 300 : 700);
+                const scene s = frnn::test::small_scene(name, solver, dim, dim == 2 ? 300 : 700);
                 auto sol = make_solver(s, 2);
                 profiler p;
                 const collider_set colliders(s.colliders);
@@ -118,7 +109,7 @@ TEST(SimSolvers, NoParticleLeaksThroughColliders) {
 }
 
 TEST(SimSolvers, NonFiniteStateAbortsNamingStepAndParticle) {
-    auto sol = make_solver(small("dam-break", solver_kind::viscoelastic, 2, 200), 1);
+    auto sol = make_solver(frnn::test::small_scene("dam-break", solver_kind::viscoelastic, 2, 200), 1);
     profiler p;
     sol->step(p);
     std::stringstream state;
@@ -143,7 +134,7 @@ TEST(SimSolvers, NonFiniteStateAbortsNamingStepAndParticle) {
 
 TEST(SimSolvers, SaveAndLoadRestoreTheStateExactly) {
     for (const auto& c : cases) {
-        const scene s = small(c.scene, c.solver, c.dim, c.particles);
+        const scene s = frnn::test::small_scene(c.scene, c.solver, c.dim, c.particles);
         auto a = make_solver(s, 2), b = make_solver(s, 1);
         profiler p;
         for (int k = 0; k < 10; ++k) a->step(p);

@@ -96,6 +96,9 @@ struct scene {
 
 /// Parses a scene; `origin` (a file name) prefixes error messages.
 scene parse_scene(const std::string& json_text, const std::string& origin);
+/// The scene as JSON that parse_scene reads back to an equal scene (numbers in shortest
+/// round-trip form; collider angles in degrees, as in the files).
+std::string scene_to_json(const scene& s);
 /// Reads and parses a scene file.
 scene load_scene(const std::string& path);
 /// The scenes shipped in sim/scenes/ by name ("dam-break", "droplet", "block-drop").

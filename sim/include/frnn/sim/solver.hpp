@@ -50,6 +50,12 @@ public:
     virtual void save(std::ostream& out) const = 0;
     virtual void load(std::istream& in) = 0;
     virtual const scene& get_scene() const = 0;
+    /// Takes the live parameters (frnn/sim/parameters.hpp) of `s` and its gravity from the next
+    /// step on. Throws frnn::error naming the parameter when `s` changes one that is not live
+    /// for this solver (the scene must restart for it).
+    virtual void set_parameters(const scene& s) = 0;
+    /// Neighbors of particle i (view() order) in the last step's lists; 0 before the first step.
+    virtual std::uint32_t neighbor_count(std::size_t i) const = 0;
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.

@@ -1,0 +1,46 @@
+// `--script FILE`: actions keyed by frame number, for tests and demos. The file is
+// {"steps_per_frame": S, "actions": [{"frame": F, "do": WHAT, ...}, ...]}; with a script the
+// viewer runs in lockstep, exactly S steps per drawn frame while playing. Actions:
+//   play, pause, step, reset, reset_view                     the panel's buttons and keys
+//   set {"name": "sph.alpha", "value": 0.2}                  a parameter of the table
+//   gravity {"value": [x, y, z]}, time_scale {"value": s}
+//   color {"field": "speed", "range": [lo, hi]}             fixed range; without "range": auto
+//   camera {"target": [x,y,z], "distance": d, "yaw": deg, "pitch": deg, "fov": deg}
+//   key {"key": "space"}                                     as if typed (see docs/VIEWER.md)
+//   click {"x": px, "y": px, "button": "left"}              press now, release next frame (left: picks)
+//   drag {"from": [x, y], "to": [x, y], "button": "left", "frames": k}
+//   scroll {"x": px, "y": px, "steps": s}
+//   button {"label": "Reset"}                                clicks the panel button with that label
+//   save_scene {"path": "out.json"}                          the scene JSON, for frnn sim
+//   save_state {"path": "x.bin"}, load_state {"path": ...}   a checkpoint (frnn sim's format)
+// A bad file throws frnn::error naming the file, the action's index and what was expected.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace frnn::view {
+
+struct script_action {
+    std::int64_t frame = 0;
+    std::string what;  ///< "play", "set", ...
+    std::string name, text;  ///< set: the parameter; key: the key; button: its label; color: the field; save_scene: the path
+    double value = 0;
+    std::array<double, 3> vec{0, 0, 0};  ///< gravity, camera target, click/scroll position (x, y)
+    std::array<double, 2> to{0, 0};      ///< drag end
+    std::array<double, 2> range{0, 0};
+    bool has_range = false;
+    double distance = 0, yaw = 0, pitch = 0, fov = 45;
+    int button = 0;    ///< 0 left, 1 right, 2 middle
+    int frames = 10;   ///< drag duration
+};
+
+struct script {
+    int steps_per_frame = 1;
+    std::vector<script_action> actions;  ///< sorted by frame, stable
+};
+
+script load_script(const std::string& path);
+
+}  // namespace frnn::view

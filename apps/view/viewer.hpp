@@ -1,0 +1,123 @@
+// The viewer window: GLFW + OpenGL 3.3 core + Dear ImGui. Each frame it takes the newest
+// snapshot from the simulation thread (one upload), draws the scene outline and the particles,
+// the legend and the control panel; under a script it applies the frame's actions first and
+// runs its S steps in lockstep.
+#pragma once
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera.hpp"
+#include "field.hpp"
+#include "options.hpp"
+#include "script.hpp"
+#include "sim_runner.hpp"
+
+struct GLFWwindow;
+
+namespace frnn::view {
+
+class particle_renderer;
+class line_renderer;
+
+/// A pointer as scripts drive it (pixels from the window's top-left).
+struct pointer_state {
+    double x = 0, y = 0;
+    std::array<bool, 3> down{false, false, false};
+};
+
+/// Width of the control panel at the window's right edge, in pixels.
+inline constexpr float panel_width = 380;
+
+class viewer {
+public:
+    /// Opens the window (throws frnn::error when there is no display or no OpenGL 3.3).
+    viewer(const sim::scene& s, const view_options& o);
+    ~viewer();
+    viewer(const viewer&) = delete;
+    viewer& operator=(const viewer&) = delete;
+    /// Runs until the window closes or the frame limit; returns the exit code.
+    int run();
+
+    // Input, called from GLFW callbacks.
+    void on_key(int key);
+    void on_scroll(double steps);
+
+private:
+    void frame();
+    void apply_actions();
+    void apply(const script_action& a);
+    /// The pointer of this frame (scripted or the mouse), also handed to ImGui.
+    pointer_state read_pointer();
+    void move_camera(const pointer_state& now);
+    void refresh_particles();
+    void draw_scene();
+    /// The part of the window the scene is drawn in, left of the panel: x, y, width, height.
+    std::array<int, 4> scene_viewport() const;
+    void draw_panel();
+    void draw_legend();
+    /// A ring around the picked particle.
+    void draw_pick_marker();
+    void draw_parameters();
+    void write_state(const std::string& path) const;
+    void save_screenshot(const std::string& path) const;
+    void save_scene(const std::string& path);
+    void switch_scene(sim::scene next);
+    /// Shows `next` in the panel and frames it (the simulation thread already has it).
+    void adopt_scene(sim::scene next);
+    void save_state(const std::string& path);
+    void load_state(const std::string& path);
+    void toggle_play();
+    void step();
+    void reset();
+
+    view_options opt_;
+    GLFWwindow* window_ = nullptr;
+    std::unique_ptr<sim_runner> runner_;
+    std::unique_ptr<particle_renderer> particles_;
+    std::unique_ptr<line_renderer> lines_;
+    camera cam_;
+    std::optional<script> script_;
+    std::size_t next_action_ = 0;
+    long frame_ = 0;
+
+    // What the panel shows and edits; the simulation thread follows by commands.
+    sim::scene scene_;
+    std::string scene_label_;
+    int chosen_scene_ = 0, chosen_solver_ = 0, chosen_dim_ = 3, chosen_particles_ = 0;
+    bool playing_ = true;  // lockstep play state (decoupled: the runner's)
+    field field_ = field::speed;
+    bool auto_range_ = true;
+    float range_min_ = 0, range_max_ = 1, shown_min_ = 0, shown_max_ = 1;
+    float time_scale_ = 1;
+    std::array<float, 3> gravity_{0, 0, 0};
+    std::string save_path_ = "scene-saved.json", state_path_ = "viewer-checkpoint.bin", message_;
+
+    sim::particle_snapshot snapshot_;
+    std::vector<float> values_;
+    double lines_time_ = -1;
+    bool scene_changed_ = true;
+
+    // Pointer: scripted (under a script) or the real mouse; who owns the current drag.
+    std::optional<pointer_state> scripted_;
+    std::vector<std::pair<long, pointer_state>> pointer_events_;  // (frame, state), sorted
+    pointer_state last_pointer_;
+    int drag_button_ = -1;
+    pointer_state press_;  // where the camera's drag began: a release there is a click (picks)
+    std::optional<std::size_t> picked_;  // particle id
+    double scroll_ = 0;
+    std::map<std::string, std::array<float, 4>> buttons_;  // panel button rects by label
+    std::array<float, 4> legend_rect_{0, 0, 0, 0};
+
+    // Decoupling and timing.
+    std::uint64_t last_started_ = 0;
+    long frames_in_step_ = 0, max_frames_in_step_ = 0;
+    double upload_seconds_ = 0, draw_seconds_ = 0, wait_seconds_ = 0;
+    long timed_frames_ = 0;
+    std::string script_error_;
+};
+
+}  // namespace frnn::view

@@ -1,0 +1,178 @@
+// frnn::sim::simulation: one step at a time, live and restarting parameter changes, snapshots
+// in id order with every field of the same step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "expect_error.hpp"
+#include "frnn/sim/run.hpp"
+#include "frnn/sim/simulation.hpp"
+#include "scratch_dir.hpp"
+
+using namespace frnn::sim;
+
+namespace {
+scene droplet_2d() {
+    scene s = builtin_scene("droplet");
+    scene_overrides o;
+    o.dim = 2;
+    o.particles = 400;
+    apply(s, o);
+    return s;
+}
+}  // namespace
+
+TEST(SimSimulation, StepsMatchTheSolverBitForBit) {
+    const scene s = droplet_2d();
+    simulation sim(s, 2);
+    auto solver = make_solver(s, 1);
+    profiler prof;
+    for (int k = 0; k < 20; ++k) {
+        sim.step();
+        solver->step(prof);
+    }
+    EXPECT_EQ(sim.steps(), 20u);
+    particle_snapshot snap;
+    sim.snapshot(snap);
+    const particle_view v = solver->view();
+    ASSERT_EQ(snap.n, v.n);
+    for (std::size_t i = 0; i < v.n; ++i)
+        for (int a = 0; a < 2; ++a) ASSERT_EQ(snap.x[v.id[i] * 3 + std::size_t(a)], v.x[i * 2 + std::size_t(a)]) << i;
+}
+
+TEST(SimSimulation, SnapshotIsInIdOrderWithFieldsOfOneStep) {
+    simulation sim(droplet_2d(), 1);
+    particle_snapshot snap;
+    sim.snapshot(snap);
+    EXPECT_EQ(snap.step, 0u);
+    const seeded_particles seeded = seed(sim.current_scene());
+    ASSERT_EQ(snap.n, seeded.count);
+    for (std::size_t k = 0; k < snap.n; ++k) {
+        EXPECT_EQ(snap.x[k * 3], seeded.x[k * 2]);
+        EXPECT_EQ(snap.x[k * 3 + 1], seeded.x[k * 2 + 1]);
+        EXPECT_EQ(snap.x[k * 3 + 2], 0.f);
+        EXPECT_EQ(snap.neighbors[k], 0u);  // no lists before the first step
+    }
+    sim.step();
+    sim.snapshot(snap);
+    EXPECT_EQ(snap.step, 1u);
+    EXPECT_GT(snap.time, 0);
+    const particle_view v = sim.state().view();
+    std::size_t with_neighbors = 0;
+    for (std::size_t i = 0; i < v.n; ++i) {
+        const std::size_t k = v.id[i];
+        EXPECT_EQ(snap.density[k], v.rho[i]);
+        EXPECT_EQ(snap.pressure[k], v.p[i]);
+        EXPECT_FLOAT_EQ(snap.speed[k], std::hypot(v.v[i * 2], v.v[i * 2 + 1]));
+        EXPECT_EQ(snap.neighbors[k], sim.state().neighbor_count(i));
+        with_neighbors += snap.neighbors[k] > 0;
+    }
+    EXPECT_GT(with_neighbors, v.n / 2);
+}
+
+TEST(SimSimulation, LiveParameterKeepsTheRunAndChangesTheNextStep) {
+    simulation a(droplet_2d(), 1), b(droplet_2d(), 1);
+    for (int k = 0; k < 5; ++k) a.step(), b.step();
+    const parameter& stiffness = *find_parameter("viscoelastic.stiffness");
+    EXPECT_FALSE(a.set_parameter(stiffness, 0.4));
+    EXPECT_EQ(a.steps(), 5u);
+    EXPECT_EQ(a.current_scene().viscoelastic.stiffness, 0.4);
+    a.step(), b.step();
+    particle_snapshot sa, sb;
+    a.snapshot(sa), b.snapshot(sb);
+    EXPECT_NE(sa.x, sb.x);
+}
+
+TEST(SimSimulation, NonLiveParameterRestartsTheScene) {
+    simulation sim(droplet_2d(), 1);
+    const double radius = sim.state().radius();
+    for (int k = 0; k < 3; ++k) sim.step();
+    EXPECT_TRUE(sim.set_parameter(*find_parameter("viscoelastic.h_ratio"), 2.5));
+    EXPECT_EQ(sim.steps(), 0u);
+    EXPECT_DOUBLE_EQ(sim.state().radius(), radius * 2.5 / 2.0);
+    // The other solver's parameter is kept for a switch, the run goes on.
+    sim.step();
+    EXPECT_FALSE(sim.set_parameter(*find_parameter("sph.h_ratio"), 1.4));
+    EXPECT_EQ(sim.steps(), 1u);
+    EXPECT_EQ(sim.current_scene().sph.h_ratio, 1.4);
+}
+
+TEST(SimSimulation, SolverRefusesALiveChangeOfARestartParameter) {
+    scene s = droplet_2d();
+    auto solver = make_solver(s, 1);
+    s.viscoelastic.h_ratio = 3;
+    frnn::test::expect_error([&] { solver->set_parameters(s); }, {"viscoelastic.h_ratio", "restart"});
+}
+
+TEST(SimSimulation, GravityChangesLive) {
+    simulation down(droplet_2d(), 1), up(droplet_2d(), 1);
+    up.set_gravity({0, 9.81, 0});
+    EXPECT_EQ(up.current_scene().gravity[1], 9.81);
+    down.step(), up.step();
+    particle_snapshot a, b;
+    down.snapshot(a), up.snapshot(b);
+    double rise = 0;  // of the particles under upward gravity, against those under downward
+    for (std::size_t k = 0; k < a.n; ++k) rise += b.x[k * 3 + 1] - a.x[k * 3 + 1];
+    EXPECT_GT(rise / double(a.n), 0.5 * 9.81 * 0.004 * 0.004);
+}
+
+TEST(SimSimulation, ParameterOutsideItsRangeIsRefused) {
+    simulation sim(droplet_2d(), 1);
+    frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("sph.gamma"), 12); }, {"sph.gamma", "[1, 10]", "12"});
+    frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("sph.eos"), 2); }, {"sph.eos", "index from 0 to 1"});
+    frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("viscoelastic.springs"), 0.5); }, {"viscoelastic.springs", "0 or 1"});
+    EXPECT_EQ(sim.current_scene().sph.gamma, 7);
+}
+
+TEST(SimSimulation, CheckpointRestoresTheStateBitForBit) {
+    const frnn::test::scratch_dir dir("sim_checkpoint");
+    simulation a(droplet_2d(), 1);
+    for (int k = 0; k < 5; ++k) a.step();
+    a.set_parameter(*find_parameter("viscoelastic.beta"), 0.45);
+    a.save_checkpoint((dir / "state.bin").string());
+    simulation b(builtin_scene("dam-break"), 1);  // another scene entirely
+    b.load_checkpoint((dir / "state.bin").string());
+    EXPECT_EQ(b.steps(), 5u);
+    EXPECT_EQ(b.current_scene().viscoelastic.beta, 0.45);
+    EXPECT_EQ(b.current_scene().dim, 2);
+    for (int k = 0; k < 3; ++k) a.step(), b.step();
+    particle_snapshot sa, sb;
+    a.snapshot(sa), b.snapshot(sb);
+    EXPECT_EQ(sa.x, sb.x);
+    EXPECT_EQ(sa.density, sb.density);
+}
+
+TEST(SimSimulation, FrnnSimResumesASavedCheckpoint) {
+    const frnn::test::scratch_dir dir("sim_checkpoint_resume");
+    scene s = droplet_2d();
+    s.steps = 8;
+    simulation a(s, 1), whole(s, 1);
+    for (int k = 0; k < 5; ++k) a.step();
+    std::filesystem::create_directories(dir / "run");
+    a.save_checkpoint((dir / "run" / "checkpoint.bin").string());
+    run_options o;
+    o.progress = false;
+    o.print_table = false;
+    const run_result r = resume((dir / "run").string(), o);  // to the scene's 8 steps
+    EXPECT_TRUE(r.finished);
+    EXPECT_EQ(r.steps, 8u);
+    for (int k = 0; k < 8; ++k) whole.step();
+    simulation after(s, 1);
+    after.load_checkpoint((dir / "run" / "checkpoint.bin").string());  // the run's final checkpoint
+    particle_snapshot sw, sa;
+    whole.snapshot(sw), after.snapshot(sa);
+    EXPECT_EQ(sa.step, 8u);
+    EXPECT_EQ(sw.x, sa.x);
+}
+
+TEST(SimSimulation, LoadingANonCheckpointNamesTheFileAndKeepsTheRun) {
+    const frnn::test::scratch_dir dir("sim_checkpoint_bad");
+    std::ofstream(dir / "not.bin") << "hello, world";
+    simulation sim(droplet_2d(), 1);
+    sim.step();
+    frnn::test::expect_error([&] { sim.load_checkpoint((dir / "not.bin").string()); }, {"not.bin", "not a frnn sim checkpoint"});
+    frnn::test::expect_error([&] { sim.load_checkpoint((dir / "missing.bin").string()); }, {"cannot open checkpoint", "missing.bin"});
+    EXPECT_EQ(sim.steps(), 1u);
+}

@@ -1,0 +1,58 @@
+// Bad input to the viewer, and `frnn view` where there is no viewer: one line on stderr
+// naming what and where, and a non-zero exit code; never a crash.
+#include <gtest/gtest.h>
+
+#include "viewer_run.hpp"
+
+using namespace frnn::test;
+
+TEST(ViewerErrors, BrokenSceneFileNamesTheFile) {
+    const scratch_dir dir("viewer_broken_scene");
+    write_text(dir / "broken.json", "{\"domain\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}, \"fluid\": [");
+    const auto r = run_viewer(dir, "broken.json --frames 2");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("frnn-view: error: broken.json: not valid JSON"), std::string::npos) << r.err;
+    write_text(dir / "bad_key.json", R"({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}], "sph": {"gamma": 40}})");
+    const auto k = run_viewer(dir, "bad_key.json --frames 2");
+    EXPECT_EQ(k.code, 1);
+    EXPECT_EQ(lines(k.err), 1) << k.err;
+    EXPECT_NE(k.err.find("bad_key.json: key 'sph.gamma'"), std::string::npos) << k.err;
+}
+
+TEST(ViewerErrors, NoDisplay) {
+    const scratch_dir dir("viewer_no_display");
+    const auto r = run_in(dir, "env -u DISPLAY -u WAYLAND_DISPLAY '" FRNN_VIEW_PATH "' --scene droplet --dim 2 --particles 200 --frames 2");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("frnn-view: error: cannot open a window"), std::string::npos) << r.err;
+}
+
+TEST(ViewerErrors, BadScriptNamesTheAction) {
+    const scratch_dir dir("viewer_bad_script");
+    write_text(dir / "script.json", R"({"actions": [{"frame": 1, "do": "play"}, {"frame": 2, "do": "jump"}]})");
+    const auto r = run_viewer(dir, "--scene droplet --dim 2 --particles 200 --script script.json --frames 3");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("script.json: actions[1]: unknown action 'jump'"), std::string::npos) << r.err;
+    write_text(dir / "script.json", R"({"actions": [{"frame": 1, "do": "set", "name": "sph.no_such", "value": 1}]})");
+    const auto p = run_viewer(dir, "--scene droplet --dim 2 --particles 200 --script script.json --frames 3");
+    EXPECT_EQ(p.code, 1);
+    EXPECT_EQ(lines(p.err), 1) << p.err;
+    EXPECT_NE(p.err.find("no parameter 'sph.no_such'"), std::string::npos) << p.err;
+    write_text(dir / "script.json", R"({"actions": [{"frame": 1, "do": "set", "name": "sph.gamma", "value": 40}]})");
+    const auto g = run_viewer(dir, "--scene droplet --dim 2 --particles 200 --script script.json --frames 3");
+    EXPECT_EQ(g.code, 1);
+    EXPECT_EQ(lines(g.err), 1) << g.err;
+    EXPECT_NE(g.err.find("script.json: frame 1: parameter sph.gamma: expected a number in [1, 10], got 40"), std::string::npos) << g.err;
+}
+
+TEST(ViewerErrors, FrnnViewWithoutTheViewerSaysWhatItNeeds) {
+    const scratch_dir dir("viewer_not_built");
+    // The frnn tool alone in a folder: no frnn-view beside it.
+    std::filesystem::copy_file(FRNN_TOOL_PATH, dir / "frnn");
+    const auto r = run_in(dir, "./frnn view --scene droplet");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "frnn: error: viewer not built (needs libglfw3-dev, libimgui-dev)\n");
+}
