@@ -12,7 +12,7 @@
 #include <map>
 #include <tuple>
 
-#include "frnn/bench/atomic_file.hpp"
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/bench/report.hpp"
 #include "frnn/error.hpp"
 
@@ -114,9 +114,9 @@ bool write_plot(const report& rep, const std::string& png_path, std::string& why
     bool any = false;
     for (const auto& r : rep.rows) any = any || r.phase == "build+list";
     if (!any) throw error("plot: no build+list measurements to plot");
-    const std::string temp_png = temporary_path_for(png_path) + ".png";
-    const std::string script_path = temporary_path_for(png_path) + ".gp";
-    write_file_atomically(script_path, plot_script(rep, temp_png));
+    const std::string temp_png = io::temporary_path_beside(png_path).string() + ".png";
+    const std::string script_path = io::temporary_path_beside(png_path).string() + ".gp";
+    io::write_file_atomically(script_path, plot_script(rep, temp_png));
     const int status = run_gnuplot(script_path);
     const int spawn_errno = errno;
     std::remove(script_path.c_str());
@@ -130,7 +130,7 @@ bool write_plot(const report& rep, const std::string& png_path, std::string& why
         throw error("plot: gnuplot exited with status " + std::to_string(status) + " writing " +
                     png_path);
     }
-    commit_file(temp_png, png_path);
+    io::commit_temporary(temp_png, png_path);
     return true;
 }
 

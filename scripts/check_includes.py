@@ -23,7 +23,7 @@ RULES = {
     "src/io": [CORE, r"frnn/io/.*", LOCAL],
     # The Vulkan grid shares the CPU grid's policies: kind choice and cell rules.
     "src/vulkan": [CORE, VULKAN, r"core/(kind_policy|cell_rules)\.hpp", LOCAL],
-    "sim": [CORE, r"frnn/sim/.*", LOCAL],
+    "sim": [CORE, r"frnn/sim/.*", r"frnn/io/atomic_file\.hpp", LOCAL],
     "python/src": [CORE, VULKAN, LOCAL],
     "bench": [CORE, VULKAN, r"frnn/bench/.*", r"frnn/io/.*", r"frnn/sim/.*"],
     "apps": [CORE, VULKAN, r"frnn/(io|sim|bench)/.*", LOCAL],

@@ -8,11 +8,11 @@
 #include "command.hpp"
 #include "contend_options.hpp"
 #include "frnn/error.hpp"
+#include "frnn/io/atomic_file.hpp"
 
 #ifdef FRNN_BENCH_AVAILABLE
 #include <algorithm>
 
-#include "frnn/bench/atomic_file.hpp"
 #include "frnn/bench/report.hpp"
 #include "frnn/bench/runner.hpp"
 #include "frnn/bench/workloads.hpp"
@@ -85,8 +85,8 @@ void run_bench(bench_args a) {
     const bench::report rep = bench::run(cfg);
     const std::string markdown = bench::to_markdown(rep);
     std::cout << markdown << std::flush;
-    if (!a.csv.empty()) bench::write_file_atomically(a.csv, bench::to_csv(rep));
-    if (!a.markdown.empty()) bench::write_file_atomically(a.markdown, markdown);
+    if (!a.csv.empty()) io::write_file_atomically(a.csv, bench::to_csv(rep));
+    if (!a.markdown.empty()) io::write_file_atomically(a.markdown, markdown);
     if (!a.plot.empty()) {
         std::string why;
         if (!bench::write_plot(rep, a.plot, why)) std::cerr << "bench: no plot: " << why << "\n";

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/sim/output.hpp"
 #include "viewer.hpp"
 
@@ -63,7 +64,7 @@ void viewer::write_state(const std::string& path) const {
     j["max_frames_in_one_step"] = max_frames_in_step_;
     j["playing"] = playing_;
     j["error"] = runner_->last_error();
-    sim::write_file_atomic(path, j.dump() + "\n");
+    io::write_file_atomically(path, j.dump() + "\n");
 }
 
 }  // namespace frnn::view

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
 #include "line_renderer.hpp"
@@ -176,7 +177,7 @@ void viewer::adopt_scene(sim::scene next) {
 
 void viewer::save_scene(const std::string& path) {
     try {
-        sim::write_file_atomic(path, sim::scene_to_json(runner_->scene_copy()));
+        io::write_file_atomically(path, sim::scene_to_json(runner_->scene_copy()));
         message_ = "saved " + path;
     } catch (const std::exception& e) {
         message_ = e.what();
@@ -438,7 +439,7 @@ void viewer::save_screenshot(const std::string& path) const {
     const std::size_t stride = std::size_t(w) * 3;
     for (int y = 0; y < h; ++y)  // OpenGL's rows go bottom-up, the image's top-down
         std::copy_n(rows.data() + std::size_t(h - 1 - y) * stride, stride, img.rgb.data() + std::size_t(y) * stride);
-    sim::write_file_atomic(path, sim::encode_png(img));
+    io::write_file_atomically(path, sim::encode_png(img));
 }
 
 }  // namespace frnn::view

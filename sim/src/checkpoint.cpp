@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
 #include "particle_solver.hpp"
@@ -64,7 +65,7 @@ void write_checkpoint(const std::string& path, const checkpoint_header& h, const
     write_pod(o, h.next_frame_time);
     write_pod(o, h.next_front_T);
     sol.save(o);
-    write_file_atomic(path, o.str());
+    io::write_file_atomically(path, o.str());
 }
 
 checkpoint_header read_checkpoint_header(std::istream& in, const std::string& name) {

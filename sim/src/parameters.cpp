@@ -1,6 +1,6 @@
 // The rows of the solver parameter table. The parser ranges are those the scene files always
 // accepted; the panel ranges were chosen so that 100 steps at either end of each stay finite
-// on the shipped scenes (tests/sim/test_parameters.cpp runs them).
+// on the shipped scenes (tests/sim/parameters_test.cpp runs them).
 #include "frnn/sim/parameters.hpp"
 
 #include <cmath>

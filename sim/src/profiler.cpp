@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/sim/output.hpp"
 
 namespace frnn::sim {
@@ -152,7 +153,7 @@ void profiler::write_trace(const std::string& path) const {
         }
     }
     o << "\n]}\n";
-    write_file_atomic(path, o.str());
+    io::write_file_atomically(path, o.str());
 }
 
 }  // namespace frnn::sim

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "frnn/error.hpp"
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/parallel.hpp"
 #include "frnn/sim/output.hpp"
 #include "frnn/sim/solver.hpp"
@@ -194,7 +195,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
             st.frames.emplace_back(sol.time(), "");
         }
         if (opt.png || opt.video)
-            write_file_atomic(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
+            io::write_file_atomically(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
     };
     auto record_front = [&] {
         if (!sc.front.enabled) return;
@@ -304,7 +305,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         csv.precision(6);
         csv << "T,Z\n";
         for (const auto& [T, Z] : st.front) csv << T << ',' << Z << '\n';
-        write_file_atomic(dir + "/front.csv", csv.str());
+        io::write_file_atomically(dir + "/front.csv", csv.str());
         try {
             res.front_deviation = front_deviation(st.front);
             summary["martin_moyce_mean_relative_deviation"] = res.front_deviation;
@@ -312,7 +313,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
             summary["martin_moyce_mean_relative_deviation"] = nullptr;  // run too short for T in [1, 4]
         }
     }
-    write_file_atomic(dir + "/summary.json", summary.dump(2) + "\n");
+    io::write_file_atomically(dir + "/summary.json", summary.dump(2) + "\n");
     if (!opt.trace_path.empty()) prof.write_trace(opt.trace_path);
     if (opt.print_table) {
         std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),

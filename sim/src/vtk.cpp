@@ -1,4 +1,4 @@
-// VTK XML output (PolyData frames and the .pvd series) and the atomic file write.
+// VTK XML output: PolyData frames and the .pvd series.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -7,30 +7,11 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "frnn/io/atomic_file.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
 
 namespace frnn::sim {
-
-void write_file_atomic(const std::string& path, const std::string& data) {
-    const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw error("cannot write '" + tmp + "'");
-        out.write(data.data(), std::streamsize(data.size()));
-        out.flush();
-        if (!out) {
-            std::remove(tmp.c_str());
-            throw error("write failed: '" + tmp + "' (disk full?)");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw error("cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
-    }
-}
 
 namespace {
 
@@ -106,7 +87,7 @@ void write_vtp(const std::string& path, const particle_view& p) {
     data_array(out, "Int32", "connectivity", 1, conn);
     data_array(out, "Int32", "offsets", 1, offs);
     out += "      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
-    write_file_atomic(path, out);
+    io::write_file_atomically(path, out);
 }
 
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames) {
@@ -116,7 +97,7 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
          "  <Collection>\n";
     for (const auto& [t, file] : frames) o << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
     o << "  </Collection>\n</VTKFile>\n";
-    write_file_atomic(path, o.str());
+    io::write_file_atomically(path, o.str());
 }
 
 }  // namespace frnn::sim

@@ -3,7 +3,7 @@
 #include <charconv>
 
 #include "frnn/io/write.hpp"
-#include "output_file.hpp"
+#include "frnn/io/atomic_file.hpp"
 #include "pairs.hpp"
 #include "util.hpp"
 
@@ -13,7 +13,7 @@ template <class T>
 void write_pairs_csv(const std::filesystem::path& file, const csr<T>& lists, pair_filter filter) {
     if (lists.distances.size() != lists.indices.size())
         detail::fail(file.string(), "csv output needs neighbor lists with distances");
-    detail::output_file out(file);
+    output_file out(file);
     std::string text = "i,j,distance\n";
     constexpr std::size_t block = 1 << 16;
     text.reserve(block + 128);

@@ -3,7 +3,7 @@
 
 #include "frnn/io/write.hpp"
 #include "npy_format.hpp"
-#include "output_file.hpp"
+#include "frnn/io/atomic_file.hpp"
 #include "pairs.hpp"
 #include "util.hpp"
 
@@ -25,7 +25,7 @@ void write_npy(const std::filesystem::path& file, std::span<const T> data,
     if (count != data.size())
         detail::fail(file.string(), "npy shape holds " + std::to_string(count) +
                                         " values but the array has " + std::to_string(data.size()));
-    detail::output_file out(file);
+    output_file out(file);
     out.write(detail::make_npy_header(detail::npy_descr<T>(), shape));
     out.write(data.data(), data.size_bytes());
     out.commit();
@@ -34,9 +34,9 @@ void write_npy(const std::filesystem::path& file, std::span<const T> data,
 template <class T>
 void write_pairs_npy(const std::filesystem::path& file, const csr<T>& lists, pair_filter filter) {
     const std::uint64_t shape[2] = {count_pairs(lists, filter), 2};
-    detail::output_file out(file);
+    output_file out(file);
     out.write(detail::make_npy_header(detail::npy_descr<std::int64_t>(), shape));
-    detail::block_writer<std::int64_t> values(out);
+    block_writer<std::int64_t> values(out);
     detail::for_each_pair(lists, filter, [&](std::size_t i, std::uint32_t j, std::uint64_t) {
         values.push(std::int64_t(i));
         values.push(std::int64_t(j));

@@ -8,7 +8,7 @@
 #include "crc32.hpp"
 #include "frnn/io/write.hpp"
 #include "npy_format.hpp"
-#include "output_file.hpp"
+#include "frnn/io/atomic_file.hpp"
 #include "util.hpp"
 
 namespace frnn::io {
@@ -38,7 +38,7 @@ struct member {
 // Writes values through a checksum: the body of one member.
 class crc_sink {
 public:
-    explicit crc_sink(detail::output_file& out) : out_(out) {}
+    explicit crc_sink(output_file& out) : out_(out) {}
     void write(const void* data, std::size_t bytes) {
         crc_ = detail::crc32_update(crc_, data, bytes);
         out_.write(data, bytes);
@@ -58,7 +58,7 @@ public:
     std::uint32_t crc() const { return crc_; }
 
 private:
-    detail::output_file& out_;
+    output_file& out_;
     std::uint32_t crc_ = 0;
 };
 
@@ -118,7 +118,7 @@ void write_csr_npz(const std::filesystem::path& file, const csr<T>& lists) {
         detail::fail(file.string(), "npz archive would exceed 4 GiB (zip64 is not supported); "
                                     "write .npy or .csv instead");
 
-    detail::output_file out(file);
+    output_file out(file);
     for (int a = 0; a < 3; ++a) {
         member& m = members[a];
         m.offset = out.position();

@@ -6,7 +6,7 @@
 #include "frnn/brute_force.hpp"
 #include "frnn/io/write.hpp"
 #include "io/test_files.hpp"
-#include "output_file.hpp"
+#include "frnn/io/atomic_file.hpp"
 
 namespace frnn::test {
 namespace {
@@ -170,7 +170,7 @@ TEST(output_file, commit_renames_and_abandon_leaves_nothing) {
     const auto dir = fresh_dir();
     const auto target = dir / "out.bin";
     {
-        io::detail::output_file out(target);
+        io::output_file out(target);
         out.write("partial");
         EXPECT_FALSE(std::filesystem::exists(target));
     }  // destroyed without commit, as after an exception
@@ -178,12 +178,12 @@ TEST(output_file, commit_renames_and_abandon_leaves_nothing) {
 
     write_bytes(target, "old");
     {
-        io::detail::output_file out(target);
+        io::output_file out(target);
         out.write("new data");
     }
     EXPECT_EQ(read_bytes(target), "old");  // a failed write keeps the previous file
     {
-        io::detail::output_file out(target);
+        io::output_file out(target);
         out.write("new data");
         out.patch(0, "N", 1);
         out.write("!");
@@ -194,7 +194,7 @@ TEST(output_file, commit_renames_and_abandon_leaves_nothing) {
 }
 
 TEST(output_file, missing_folder_names_the_target) {
-    expect_error([] { io::detail::output_file out("/nonexistent/frnn/out.npy"); },
+    expect_error([] { io::output_file out("/nonexistent/frnn/out.npy"); },
                  {"/nonexistent/frnn/out.npy", "cannot create"});
 }
 

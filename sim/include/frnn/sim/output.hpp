@@ -1,6 +1,6 @@
 // Writers of the simulation's output: VTK XML PolyData frames (.vtp, base64 binary), the
-// ParaView time series (.pvd), PNG pictures from a small software renderer, and the atomic
-// file write they all use (temp name, then rename: a reader never sees half a file).
+// ParaView time series (.pvd) and PNG pictures from a small software renderer. Files are
+// written atomically (frnn/io/atomic_file.hpp): a reader never sees half a file.
 // Complexity O(N) per frame. Thread safety: free functions, reentrant.
 #pragma once
 #include <cstdint>
@@ -12,9 +12,6 @@
 #include "frnn/sim/solver.hpp"
 
 namespace frnn::sim {
-
-/// Writes `data` to `path` through a temporary file and a rename. Throws frnn::error.
-void write_file_atomic(const std::string& path, const std::string& data);
 
 /// One frame: positions, velocity, speed, density, pressure and id, in particle-id order.
 void write_vtp(const std::string& path, const particle_view& p);

@@ -124,5 +124,5 @@ TEST(ViewerStepping, SavedStateLoadsBackBitForBit) {
     EXPECT_EQ(sb.at("scene"), "droplet");
     EXPECT_EQ(sb.at("solver"), "sph");
     EXPECT_EQ(positions(sa), positions(sb));
-    // (frnn sim --resume continuing such a checkpoint: tests/sim/test_simulation.cpp)
+    // (frnn sim --resume continuing such a checkpoint: tests/sim/simulation_test.cpp)
 }

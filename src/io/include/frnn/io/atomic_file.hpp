@@ -1,6 +1,9 @@
-// output_file: a file written under a temporary name in the target's folder and renamed over
-// the target by commit(); destroyed without commit (an exception on the way), it removes the
-// temporary, so readers never see a partial file.
+// Files that readers never see half written: the content goes to a hidden temporary name in the
+// target's folder (so the final rename never crosses file systems), is flushed and synced, then
+// renamed over the target (atomic on POSIX). A write abandoned on the way (an exception) removes
+// its temporary. The one such writer of frnn's tool, simulation, benchmarks and viewer.
+// Errors throw frnn::error "<target>: <what went wrong>".
+// Thread safety: distinct objects and distinct targets may be used from any threads.
 #pragma once
 #include <cstdint>
 #include <cstdio>
@@ -8,8 +11,18 @@
 #include <string_view>
 #include <vector>
 
-namespace frnn::io::detail {
+namespace frnn::io {
 
+/// Writes `content` to `path` atomically (through an output_file).
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+/// For a file another program writes (gnuplot's PNG): a hidden temporary name beside `path`,
+/// unique in this process, and the rename of that file over `path` (removed when it fails).
+std::filesystem::path temporary_path_beside(const std::filesystem::path& path);
+void commit_temporary(const std::filesystem::path& temporary, const std::filesystem::path& path);
+
+/// A file written under a temporary name and renamed over the target by commit(); destroyed
+/// without commit, it removes the temporary.
 class output_file {
 public:
     explicit output_file(std::filesystem::path target);
@@ -54,4 +67,4 @@ private:
     std::vector<T> block_;
 };
 
-}  // namespace frnn::io::detail
+}  // namespace frnn::io
