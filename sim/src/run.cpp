@@ -25,32 +25,6 @@ namespace frnn::sim {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-const std::vector<std::pair<double, double>>& martin_moyce() {
-    static const std::vector<std::pair<double, double>> ref = {{0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292},
-                                                               {2.547, 2.995}, {3.345, 4.134}, {4.034, 4.944},
-                                                               {4.418, 5.881}, {5.091, 6.980}, {5.685, 7.945}};
-    return ref;
-}
-
-double front_deviation(const std::vector<std::pair<double, double>>& front, double t_lo, double t_hi) {
-    double sum = 0;
-    int count = 0;
-    for (const auto& [T, Z] : martin_moyce()) {
-        if (T < t_lo || T > t_hi) continue;
-        if (front.empty() || front.front().first > T || front.back().first < T)
-            throw error("front record does not cover T = " + std::to_string(T));
-        std::size_t k = 1;
-        while (front[k].first < T) ++k;
-        const auto& [t0, z0] = front[k - 1];
-        const auto& [t1, z1] = front[k];
-        const double z = t1 > t0 ? z0 + (z1 - z0) * (T - t0) / (t1 - t0) : z1;
-        sum += std::abs(z - Z) / Z;
-        ++count;
-    }
-    if (count == 0) throw error("no reference point of Martin & Moyce in the T range");
-    return sum / count;
-}
-
 namespace {
 
 using run_state = detail::checkpoint_header;
@@ -163,6 +137,89 @@ json load_summary(const profiler& prof, const load_hook& load) {
     return j;
 }
 
+// What a run returns: its totals and the profiler's mean ms per step by stage (with the block
+// medians under a load).
+run_result result_of(solver& sol, profiler& prof, const run_state& st, const std::string& dir, double wall,
+                     bool finished) {
+    run_result res;
+    res.out_dir = dir;
+    res.steps = sol.steps();
+    res.particles = sol.view().n;
+    res.frames = st.frames.size();
+    res.sim_time = sol.time();
+    res.wall_seconds = wall;
+    res.step_ms = prof.mean_step_ms();
+    res.front = st.front;
+    res.finished = finished;
+    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
+        if (prof.total_seconds(stage(s)) > 0) res.stage_ms.emplace_back(to_string(stage(s)), prof.mean_ms(stage(s)));
+    res.quiet_blocks = prof.blocks(false);
+    res.contended_blocks = prof.blocks(true);
+    if (prof.enough_blocks()) {
+        res.quiet_step_ms = prof.block_median_step_ms(false);
+        res.contended_step_ms = prof.block_median_step_ms(true);
+    }
+    return res;
+}
+
+// summary.json, and front.csv with the deviation from Martin & Moyce (into res) when the scene
+// records the surge front.
+void write_summary(const std::string& dir, solver& sol, profiler& prof, const run_state& st, run_result& res,
+                   const run_options& opt, int threads, std::uint64_t this_run, bool resumed) {
+    const scene& sc = sol.get_scene();
+    json summary;
+    summary["scene"] = sc.name;
+    summary["solver"] = to_string(sc.solver);
+    summary["dim"] = sc.dim;
+    summary["particles"] = res.particles;
+    summary["steps"] = res.steps;
+    summary["steps_this_run"] = this_run;
+    summary["simulated_seconds"] = res.sim_time;
+    summary["threads"] = threads;
+    summary["spacing"] = sol.spacing();
+    summary["radius"] = sol.radius();
+    summary["rest_density"] = sol.rest_density();
+    summary["frames"] = res.frames;
+    summary["wall_seconds"] = res.wall_seconds;
+    summary["resumed"] = resumed;
+    json stages = json::object(), cpu = json::object();
+    for (const auto& [name, ms] : res.stage_ms) stages[name] = ms;
+    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
+        if (prof.total_seconds(stage(s)) > 0) cpu[to_string(stage(s))] = prof.mean_cpu_ms(stage(s));
+    summary["mean_ms_per_step"] = stages;
+    summary["mean_process_cpu_ms_per_step"] = cpu;
+    summary["step_ms_without_output"] = res.step_ms;
+    if (opt.load.set) summary["under_load"] = load_summary(prof, opt.load);
+    if (sc.front.enabled && !st.front.empty()) {
+        std::ostringstream csv;
+        csv.precision(6);
+        csv << "T,Z\n";
+        for (const auto& [T, Z] : st.front) csv << T << ',' << Z << '\n';
+        io::write_file_atomically(dir + "/front.csv", csv.str());
+        try {
+            res.front_deviation = front_deviation(st.front);
+            summary["martin_moyce_mean_relative_deviation"] = res.front_deviation;
+        } catch (const error&) {
+            summary["martin_moyce_mean_relative_deviation"] = nullptr;  // run too short for T in [1, 4]
+        }
+    }
+    io::write_file_atomically(dir + "/summary.json", summary.dump(2) + "\n");
+}
+
+// The lines and the per-stage table printed at the end of a run.
+void print_report(const scene& sc, profiler& prof, const run_result& res, const run_options& opt, int threads,
+                  const std::string& dir) {
+    std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),
+                res.particles, to_string(sc.solver).c_str(), sc.dim, (unsigned long long)res.steps, res.sim_time,
+                res.wall_seconds, threads);
+    if (opt.load.set) std::printf("%s", load_line(prof, opt.load).c_str());
+    std::printf("%s", prof.table(bool(opt.load.set)).c_str());
+    if (res.front_deviation >= 0)
+        std::printf("surge front vs Martin & Moyce (1952): mean relative deviation %.1f%% over T in [1, 4] (%s/front.csv)\n",
+                    100 * res.front_deviation, dir.c_str());
+    std::printf("output: %s (particles.pvd opens in ParaView)\n", dir.c_str());
+}
+
 run_result execute(run_state& st, solver& sol, const run_options& opt, const std::string& dir, bool resumed) {
     const scene& sc = sol.get_scene();
     const int threads = resolve_thread_count(opt.threads);
@@ -256,76 +313,13 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         opt.load.set(false);
     }
 
-    run_result res;
-    res.out_dir = dir;
-    res.steps = sol.steps();
-    res.particles = sol.view().n;
-    res.frames = st.frames.size();
-    res.sim_time = sol.time();
-    res.wall_seconds = wall;
-    res.step_ms = prof.mean_step_ms();
-    res.front = st.front;
-    res.finished = !interrupted;
-    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
-        if (prof.total_seconds(stage(s)) > 0) res.stage_ms.emplace_back(to_string(stage(s)), prof.mean_ms(stage(s)));
-    res.quiet_blocks = prof.blocks(false);
-    res.contended_blocks = prof.blocks(true);
-    if (prof.enough_blocks()) {
-        res.quiet_step_ms = prof.block_median_step_ms(false);
-        res.contended_step_ms = prof.block_median_step_ms(true);
-    }
+    run_result res = result_of(sol, prof, st, dir, wall, !interrupted);
     if (interrupted) return res;
 
     save_checkpoint(dir, st, sol);
-    json summary;
-    summary["scene"] = sc.name;
-    summary["solver"] = to_string(sc.solver);
-    summary["dim"] = sc.dim;
-    summary["particles"] = res.particles;
-    summary["steps"] = res.steps;
-    summary["steps_this_run"] = this_run;
-    summary["simulated_seconds"] = res.sim_time;
-    summary["threads"] = threads;
-    summary["spacing"] = sol.spacing();
-    summary["radius"] = sol.radius();
-    summary["rest_density"] = sol.rest_density();
-    summary["frames"] = res.frames;
-    summary["wall_seconds"] = wall;
-    summary["resumed"] = resumed;
-    json stages = json::object(), cpu = json::object();
-    for (const auto& [name, ms] : res.stage_ms) stages[name] = ms;
-    for (std::size_t s = 0; s < std::size_t(stage::count); ++s)
-        if (prof.total_seconds(stage(s)) > 0) cpu[to_string(stage(s))] = prof.mean_cpu_ms(stage(s));
-    summary["mean_ms_per_step"] = stages;
-    summary["mean_process_cpu_ms_per_step"] = cpu;
-    summary["step_ms_without_output"] = res.step_ms;
-    if (under_load) summary["under_load"] = load_summary(prof, opt.load);
-    if (sc.front.enabled && !st.front.empty()) {
-        std::ostringstream csv;
-        csv.precision(6);
-        csv << "T,Z\n";
-        for (const auto& [T, Z] : st.front) csv << T << ',' << Z << '\n';
-        io::write_file_atomically(dir + "/front.csv", csv.str());
-        try {
-            res.front_deviation = front_deviation(st.front);
-            summary["martin_moyce_mean_relative_deviation"] = res.front_deviation;
-        } catch (const error&) {
-            summary["martin_moyce_mean_relative_deviation"] = nullptr;  // run too short for T in [1, 4]
-        }
-    }
-    io::write_file_atomically(dir + "/summary.json", summary.dump(2) + "\n");
+    write_summary(dir, sol, prof, st, res, opt, threads, this_run, resumed);
     if (!opt.trace_path.empty()) prof.write_trace(opt.trace_path);
-    if (opt.print_table) {
-        std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),
-                    res.particles, to_string(sc.solver).c_str(), sc.dim, (unsigned long long)res.steps, res.sim_time, wall,
-                    threads);
-        if (under_load) std::printf("%s", load_line(prof, opt.load).c_str());
-        std::printf("%s", prof.table(under_load).c_str());
-        if (res.front_deviation >= 0)
-            std::printf("surge front vs Martin & Moyce (1952): mean relative deviation %.1f%% over T in [1, 4] (%s/front.csv)\n",
-                        100 * res.front_deviation, dir.c_str());
-        std::printf("output: %s (particles.pvd opens in ParaView)\n", dir.c_str());
-    }
+    if (opt.print_table) print_report(sc, prof, res, opt, threads, dir);
     if (opt.video) make_video(dir, sc.output.every > 0 ? 1 / (sol.last_dt() * sc.output.every) : sc.output.fps);
     return res;
 }

@@ -7,10 +7,10 @@
 
 #include "frnn/sim/kernels.hpp"
 #include "particle_solver.hpp"
+#include "solvers.hpp"
 
 namespace frnn::sim {
 namespace detail {
-std::unique_ptr<solver> make_viscoelastic(const scene& s, int threads);
 namespace {
 
 template <int D>
@@ -202,10 +202,4 @@ std::unique_ptr<solver> make_sph(const scene& s, int threads) {
 }
 
 }  // namespace detail
-
-std::unique_ptr<solver> make_solver(const scene& s, int threads) {
-    if (s.dim != 2 && s.dim != 3) throw error("scene '" + s.name + "': dim must be 2 or 3, got " + std::to_string(s.dim));
-    return s.solver == solver_kind::sph ? detail::make_sph(s, threads) : detail::make_viscoelastic(s, threads);
-}
-
 }  // namespace frnn::sim

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "particle_solver.hpp"
+#include "solvers.hpp"
 
 namespace frnn::sim {
 namespace detail {

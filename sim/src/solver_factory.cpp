@@ -1,0 +1,16 @@
+// make_solver: the scene's solver, by its kind and dimension.
+#include <memory>
+#include <string>
+
+#include "frnn/error.hpp"
+#include "frnn/sim/solver.hpp"
+#include "solvers.hpp"
+
+namespace frnn::sim {
+
+std::unique_ptr<solver> make_solver(const scene& s, int threads) {
+    if (s.dim != 2 && s.dim != 3) throw error("scene '" + s.name + "': dim must be 2 or 3, got " + std::to_string(s.dim));
+    return s.solver == solver_kind::sph ? detail::make_sph(s, threads) : detail::make_viscoelastic(s, threads);
+}
+
+}  // namespace frnn::sim
