@@ -1,7 +1,6 @@
 // Runs the built frnn binary and collects its exit code, stdout and stderr; writes point files
 // in each input format; reads the tool's outputs back.
 #pragma once
-#include <sys/wait.h>
 
 #include <charconv>
 #include <cstdlib>
@@ -12,27 +11,15 @@
 #include "frnn/brute_force.hpp"
 #include "frnn/io/write.hpp"
 #include "io/test_files.hpp"
+#include "run_command.hpp"
 
 namespace frnn::test {
 
-struct tool_result {
-    int code = -1;
-    std::string out, err;
-};
+using tool_result = command_result;
 
 /// Runs `frnn <args>` (args already shell-quoted where needed) in folder `dir`.
 inline tool_result run_tool(const std::filesystem::path& dir, const std::string& args) {
-    const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-    const std::string command = "cd '" + dir.string() + "' && '" FRNN_TOOL_PATH "' " + args + " >'" +
-                                out.string() + "' 2>'" + err.string() + "'";
-    const int status = std::system(command.c_str());
-    tool_result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = read_bytes(out);
-    r.err = read_bytes(err);
-    std::filesystem::remove(out);
-    std::filesystem::remove(err);
-    return r;
+    return run_command(dir, "'" FRNN_TOOL_PATH "' " + args);
 }
 
 /// n points uniform in [0, side)^D.

@@ -1,7 +1,6 @@
 // Runs frnn-view (under xvfb-run, or with no display at all) and the frnn tool from the tests,
 // and reads what the viewer leaves: its --state JSON and --screenshot PNG.
 #pragma once
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -12,14 +11,12 @@
 #include <string>
 
 #include "frnn/sim/output.hpp"
+#include "run_command.hpp"
 #include "scratch_dir.hpp"
 
 namespace frnn::test {
 
-struct run_result {
-    int code = -1;
-    std::string out, err;
-};
+using run_result = command_result;
 
 inline std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -30,18 +27,9 @@ inline std::string slurp(const std::filesystem::path& p) {
 
 /// Runs a shell command in `dir`, collecting exit code, stdout and stderr.
 inline run_result run_in(const scratch_dir& dir, const std::string& command) {
-    const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
     // Leak reports of the sanitizer tree: Mesa's and X's own allocations are not ours.
-    const std::string env = "LSAN_OPTIONS=suppressions='" FRNN_LSAN_SUPPRESSIONS "' MESA_SHADER_CACHE_DISABLE=true ";
-    const std::string full = "cd '" + dir.string() + "' && " + env + command + " >'" + out.string() + "' 2>'" + err.string() + "'";
-    const int status = std::system(full.c_str());
-    run_result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    std::filesystem::remove(out);
-    std::filesystem::remove(err);
-    return r;
+    return run_command(dir, "LSAN_OPTIONS=suppressions='" FRNN_LSAN_SUPPRESSIONS "' MESA_SHADER_CACHE_DISABLE=true " +
+                                command);
 }
 
 /// frnn-view with `args` on a virtual screen of its own (a server number per process, so
