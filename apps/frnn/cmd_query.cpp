@@ -38,7 +38,7 @@ struct query_args {
 
 // What the summary reports.
 struct query_report {
-    std::size_t points = 0, query_points = 0, cells = 0, nonempty = 0, max_neighbors = 0;
+    std::size_t points = 0, query_points = 0, slots = 0, occupied = 0, max_neighbors = 0;
     int dimension = 3, threads = 1;
     std::string precision, grid;
     double cell_size = 0, mean_neighbors = 0;
@@ -150,8 +150,8 @@ void print_report(const query_args& a, const query_report& r) {
         j["mean_neighbors"] = r.mean_neighbors;
         j["max_neighbors"] = r.max_neighbors;
         j["grid"] = r.grid;
-        j["cells"] = r.cells;
-        j["nonempty_cells"] = r.nonempty;
+        j["slots"] = r.slots;
+        j["occupied_slots"] = r.occupied;
         j["cell_size"] = r.cell_size;
         j["threads"] = r.threads;
         j["output"] = a.output.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(a.output);
@@ -168,11 +168,11 @@ void print_report(const query_args& a, const query_report& r) {
     std::printf("neighbors  mean %.2f, max %zu per %s point\n", r.mean_neighbors, r.max_neighbors,
                 a.queries.empty() ? "data" : "query");
     if (a.backend == "vulkan")
-        std::printf("grid       %s, %zu cells, cell size %g, on the Vulkan device\n", r.grid.c_str(), r.cells,
+        std::printf("grid       %s, %zu slots, cell size %g, on the Vulkan device\n", r.grid.c_str(), r.slots,
                     r.cell_size);
     else
-        std::printf("grid       %s, %zu cells (%zu non-empty), cell size %g, %d threads\n", r.grid.c_str(), r.cells,
-                    r.nonempty, r.cell_size, r.threads);
+        std::printf("grid       %s, %zu slots (%zu occupied), cell size %g, %d threads\n", r.grid.c_str(), r.slots,
+                    r.occupied, r.cell_size, r.threads);
     std::printf("time       read %.1f ms, build %.1f ms, query %.1f ms, write %.1f ms\n", r.read_ms, r.build_ms,
                 r.query_ms, r.write_ms);
     if (!a.output.empty()) std::printf("output     %s\n", a.output.c_str());
@@ -220,7 +220,7 @@ void query_on_vulkan_as(const query_args& a, io::point_set& data, io::point_set&
     r.dimension = data.dimension;
     r.precision = std::is_same_v<T, float> ? "float (vulkan)" : "double (vulkan: float candidates, decided in double)";
     r.grid = std::string(to_string(found.kind)) + " (vulkan)";
-    r.cells = found.cells;
+    r.slots = found.slots;
     r.cell_size = a.cell_size > 0 ? a.cell_size : a.radius;
     r.threads = 0;
     finish_lists(a, found.lists, r, clock);
@@ -298,8 +298,8 @@ void run_query(const query_args& a) {
         r.dimension = D;
         r.precision = io::to_string(data.type());
         r.grid = to_string(g.kind());
-        r.cells = g.cell_count();
-        r.nonempty = g.nonempty_cells();
+        r.slots = g.slot_count();
+        r.occupied = g.occupied_slots();
         r.cell_size = g.cell_size();
         r.threads = g.threads();
         finish_lists(a, lists, r, clock);

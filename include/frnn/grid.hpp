@@ -71,8 +71,10 @@ public:
     grid_kind kind() const { return geometry_.kind; }          ///< uniform or hashed, never automatic
     double cell_size(int axis = 0) const { return geometry_.cell[axis] / double(geometry_.scale); }
     int reach() const { return geometry_.reach; }              ///< cells visited on each side
-    std::size_t cell_count() const { return geometry_.slots; } ///< cells (uniform) or table slots (hashed)
-    std::size_t nonempty_cells() const { return nonempty_; }
+    /// Slots of the cell index: one per cell of a uniform grid, the hash table's size for a
+    /// hashed one (cells that hash alike share a slot).
+    std::size_t slot_count() const { return geometry_.slots; }
+    std::size_t occupied_slots() const { return occupied_slots_; }  ///< slots holding at least one point
     std::size_t memory_bytes() const;                 ///< bytes held by the structure
     bool periodic() const { return geometry_.periodic; }
     const grid_options& options() const { return options_; }
@@ -253,7 +255,7 @@ private:
     void mark_shared_slots();
     /// Hashed grid: the index of table slot s among the occupied slots, or empty_slot.
     std::uint32_t occupied_index(std::size_t s) const {
-        const detail::occupied_slots w = occupied_[s / 32];
+        const detail::occupied_slot_word w = occupied_[s / 32];
         const std::uint32_t bit = 1u << (s % 32);
         if (!(w.bits & bit)) return empty_slot;
         return w.before + bit_count(w.bits & (bit - 1));
@@ -279,7 +281,7 @@ private:
     grid_options options_;
     T radius_ = 0;
     grid_geometry<T> geometry_;  // kind, cells, box, search scale
-    std::size_t nonempty_ = 0;
+    std::size_t occupied_slots_ = 0;
 
     // Structure.
     std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis, search space
@@ -287,7 +289,7 @@ private:
     buffer<std::uint32_t> perm_;            // sorted -> original
     detail::lazy_inverse inverse_;          // original -> sorted, on first use
     std::vector<std::uint32_t> offsets_;    // run starts: of the cells, or of the occupied slots (hashed); then size()
-    std::vector<detail::occupied_slots> occupied_;  // hashed: geometry_.slots / 32 words
+    std::vector<detail::occupied_slot_word> occupied_;  // hashed: geometry_.slots / 32 words
     std::vector<std::uint64_t> shared_slots_;      // hashed: bit per occupied slot holding points of several cells
 
     // Build scratch, kept for rebuilds.

@@ -86,7 +86,7 @@ struct grid_geometry {
             } else if (kind == grid_kind::uniform) {
                 c[a] = std::int64_t(std::clamp((v - origin[a]) * inv_cell[a], 0.0, double(dims[a] - 1)));
             } else {
-                c[a] = detail::floor_to_int(v * inv_cell[a]);
+                c[a] = detail::floor_to_int((v - origin[a]) * inv_cell[a]);
             }
         }
         return c;

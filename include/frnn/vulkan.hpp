@@ -34,6 +34,7 @@
 
 #include "frnn/csr.hpp"
 #include "frnn/error.hpp"
+#include "frnn/grid_geometry.hpp"
 #include "frnn/options.hpp"
 
 namespace frnn::vulkan {
@@ -173,7 +174,13 @@ public:
     /// of neighbor_lists_on_device() are in those units. Host results are in the caller's.
     float search_scale() const;
     grid_kind kind() const;           ///< uniform or hashed, never automatic
-    std::size_t cell_count() const;   ///< cells (uniform) or table slots (hashed)
+    std::size_t slot_count() const;   ///< slots of the cell index: cells (uniform) or table size (hashed)
+    /// Where the cells are (frnn/grid_geometry.hpp), chosen by the CPU grid's rules with cells
+    /// as wide as asked (no margin). The device locates points in float, so a point within
+    /// about 2^-20 of a cell face may sit in the cell beside the one cell_of() gives; it visits
+    /// the cells that [x - r, x + r] touches, within cells_within(x). Its hashed table numbers
+    /// slots with grid.glsl's own hash, not slot_of_cell().
+    const grid_geometry<float>& geometry() const;
 
     /// sorted_to_original()[s]: the caller's index of the s-th point in cell order.
     std::vector<std::uint32_t> sorted_to_original() const;
@@ -254,7 +261,7 @@ template <class T>
 struct basic_search_result {
     csr<T> lists;
     grid_kind kind = grid_kind::uniform;  ///< the kind the grid chose
-    std::size_t cells = 0;                ///< cells (uniform) or table slots (hashed)
+    std::size_t slots = 0;                ///< cell slots: the cells of a uniform grid, the table of a hashed one
     double build_ms = 0, query_ms = 0;    ///< wall time, including uploads and downloads
 };
 using search_result = basic_search_result<float>;

@@ -323,13 +323,13 @@ std::string grid_object::kind() const {
     std::shared_lock lock(mutex_);
     return std::string(to_string(std::visit([](auto& g) { return g.kind(); }, g_)));
 }
-std::size_t grid_object::cells() const {
+std::size_t grid_object::slots() const {
     std::shared_lock lock(mutex_);
-    return std::visit([](auto& g) { return g.cell_count(); }, g_);
+    return std::visit([](auto& g) { return g.slot_count(); }, g_);
 }
-std::size_t grid_object::nonempty_cells() const {
+std::size_t grid_object::occupied_slots() const {
     std::shared_lock lock(mutex_);
-    return std::visit([](auto& g) { return g.nonempty_cells(); }, g_);
+    return std::visit([](auto& g) { return g.occupied_slots(); }, g_);
 }
 double grid_object::cell_size() const {
     std::shared_lock lock(mutex_);

@@ -50,8 +50,8 @@ public:
     int dim() const;
     py::dtype dtype() const;
     std::string kind() const;
-    std::size_t cells() const;
-    std::size_t nonempty_cells() const;
+    std::size_t slots() const;
+    std::size_t occupied_slots() const;
     double cell_size() const;
     py::object periodic() const;
     int threads() const;

@@ -195,10 +195,11 @@ PYBIND11_MODULE(_frnn, m) {
         .def_property_readonly("dim", &grid_object::dim, "Dimension: 2 or 3")
         .def_property_readonly("dtype", &grid_object::dtype, "float32 or float64")
         .def_property_readonly("kind", &grid_object::kind, "'uniform' or 'hash'")
-        .def_property_readonly("cells", &grid_object::cells,
-                               "Cells (uniform grid) or hash-table slots (hashed grid)")
-        .def_property_readonly("nonempty_cells", &grid_object::nonempty_cells,
-                               "Cells holding at least one point")
+        .def_property_readonly("slots", &grid_object::slots,
+                               "Slots of the cell index: the cells of a uniform grid, the size of a "
+                               "hashed grid's table")
+        .def_property_readonly("occupied_slots", &grid_object::occupied_slots,
+                               "Slots holding at least one point")
         .def_property_readonly("cell_size", &grid_object::cell_size, "Cell edge length in use (the grid may round the requested one up to fit the domain)")
         .def_property_readonly("periodic", &grid_object::periodic,
                                "Box lengths per axis, or None for open boundaries")

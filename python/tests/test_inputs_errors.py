@@ -150,7 +150,7 @@ def test_properties_and_repr():
     g = frnn.Grid(POINTS.astype(np.float32), 1.0, grid="uniform", cell_size=0.5)
     assert (g.n, g.dim, g.radius, g.kind) == (300, 3, 1.0, "uniform")
     assert 0.5 <= g.cell_size < 0.75
-    assert g.cells >= g.nonempty_cells > 0 and g.memory_bytes > 0
+    assert g.slots >= g.occupied_slots > 0 and g.memory_bytes > 0
     assert repr(g) == ("frnn.Grid(n=300, dim=3, radius=1.0, kind='uniform', "
                        "dtype=float32)")
     assert frnn.__version__

@@ -2,6 +2,7 @@
 #include "core/cell_rules.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -45,5 +46,47 @@ std::array<std::int64_t, 3> uniform_cells(const double* lo, const double* hi, in
     for (int a = 0; a < dim; ++a) dims[a] = std::int64_t(std::floor((hi[a] - lo[a]) / cell)) + 1;
     return dims;
 }
+
+namespace {
+template <class T>
+void count_slots(grid_geometry<T>& g, int dim, std::size_t n) {
+    g.slots = 1;
+    if (g.kind == grid_kind::hashed) {
+        g.slots = std::bit_ceil(std::max<std::size_t>(n, 64));
+        return;
+    }
+    for (int a = 0; a < dim; ++a) g.slots *= std::size_t(g.dims[a]);
+}
+}  // namespace
+
+template <class T>
+void lay_out_periodic_cells(grid_geometry<T>& g, const double* box, int dim, double cell, std::size_t n) {
+    g.kind = grid_kind::uniform;
+    g.dims = periodic_cells(box, dim, cell, n);
+    for (int a = 0; a < dim; ++a) {
+        g.cell[a] = double(g.box[a]) / double(g.dims[a]);
+        g.inv_cell[a] = double(g.dims[a]) / double(g.box[a]);
+        g.origin[a] = 0;
+    }
+    count_slots(g, dim, n);
+}
+
+template <class T>
+void lay_out_open_cells(grid_geometry<T>& g, const double* lo, const double* hi, int dim, double cell,
+                        std::size_t n) {
+    g.dims = {1, 1, 1};
+    if (g.kind == grid_kind::uniform) g.dims = uniform_cells(lo, hi, dim, cell);
+    for (int a = 0; a < dim; ++a) {
+        g.cell[a] = cell;
+        g.inv_cell[a] = 1.0 / cell;
+        g.origin[a] = lo[a];
+    }
+    count_slots(g, dim, n);
+}
+
+template void lay_out_periodic_cells(grid_geometry<float>&, const double*, int, double, std::size_t);
+template void lay_out_periodic_cells(grid_geometry<double>&, const double*, int, double, std::size_t);
+template void lay_out_open_cells(grid_geometry<float>&, const double*, const double*, int, double, std::size_t);
+template void lay_out_open_cells(grid_geometry<double>&, const double*, const double*, int, double, std::size_t);
 
 }  // namespace frnn::detail

@@ -1,13 +1,15 @@
 // How many cells a grid has and over which box: the rules every backend applies when it plans
-// its geometry (the CPU grid's plan in grid_build.cpp and the Vulkan grid's configure), so that
-// both read a domain, size a periodic box and count uniform cells alike. The kind choice is
-// kind_policy.hpp. All in search space (see frnn/search_scale.hpp).
+// its geometry (the CPU grid's plan in grid_plan.cpp and the Vulkan grid's configure), so that
+// both read a domain, size a periodic box, count uniform cells and lay out the cells of their
+// grid_geometry alike. The kind choice is kind_policy.hpp. All in search space (see
+// frnn/search_scale.hpp).
 #pragma once
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 
+#include "frnn/grid_geometry.hpp"
 #include "frnn/options.hpp"
 
 namespace frnn::detail {
@@ -18,6 +20,19 @@ namespace frnn::detail {
 /// bounds are not `dim` finite, ordered values.
 void apply_domain(const grid_options& o, int dim, double scale, double limit, double* lo, double* hi,
                   std::string_view who);
+
+/// The cells of a periodic box (search space, dim axes): a uniform grid from 0 of at least
+/// `cell`-wide cells, periodic_cells(box) per axis, each g.box / dims wide (g.box: the lengths
+/// in the points' type; box: as asked); and its slots.
+template <class T>
+void lay_out_periodic_cells(grid_geometry<T>& g, const double* box, int dim, double cell, std::size_t n);
+
+/// The cells of an open grid of kind g.kind over [lo, hi] (search space): `cell`-wide cells
+/// counted from lo, uniform_cells() of them per axis on a uniform grid; and the slots of the
+/// cell index (cells, or a hash table of at least 64 slots and one per point, a power of 2).
+template <class T>
+void lay_out_open_cells(grid_geometry<T>& g, const double* lo, const double* hi, int dim, double cell,
+                        std::size_t n);
 
 /// Cells per axis of a periodic box of lengths box[0, dim): floor(L / cell), at least 1 and at
 /// most 2^30 per axis, then, for sparse boxes, fewer and larger so that the box has at most

@@ -63,7 +63,7 @@ std::size_t grid<T, D>::memory_bytes() const {
     for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
     for (const auto& p : input_pos_) bytes += p.capacity() * sizeof(T);
     bytes += (perm_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t) + inverse_.capacity_bytes();
-    bytes += shared_slots_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slots);
+    bytes += shared_slots_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slot_word);
     return bytes;
 }
 

@@ -119,8 +119,8 @@ void grid<T, D>::mark_shared_slots() {
         }
         nonempty[c] = count;
     });
-    nonempty_ = 0;
-    for (auto v : nonempty) nonempty_ += v;
+    occupied_slots_ = 0;
+    for (auto v : nonempty) occupied_slots_ += v;
 }
 
 template <class T, int D>

@@ -3,7 +3,6 @@
 #include "core/grid_plan.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -136,13 +135,7 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
             l.box[a] = T(o.periodic[a]) * l.scale;
             l.inside_box = l.inside_box && lo[a] >= 0 && hi[a] < double(l.box[a]);
         }
-        l.dims = periodic_cells(box, D, cell, n);
-        l.kind = grid_kind::uniform;
-        for (int a = 0; a < D; ++a) {
-            l.cell[a] = double(l.box[a]) / double(l.dims[a]);
-            l.inv_cell[a] = double(l.dims[a]) / double(l.box[a]);
-            l.origin[a] = 0;
-        }
+        lay_out_periodic_cells(l, box, D, cell, n);
     } else {
         apply_domain(o, D, double(l.scale), double(std::numeric_limits<T>::max()), lo.data(), hi.data(), "");
         kind_question q;
@@ -162,14 +155,12 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
                         " cells (extent / cell size); use the hashed grid");
         l.kind = kind;
-        if (l.kind == grid_kind::uniform) l.dims = uniform_cells(lo.data(), hi.data(), D, cell);
-        double extent = 0;
-        for (int a = 0; a < D; ++a) {
-            l.cell[a] = cell;
-            l.inv_cell[a] = 1.0 / cell;
-            if (l.kind == grid_kind::uniform) {
-                l.origin[a] = lo[a];
-            } else {
+        lay_out_open_cells(l, lo.data(), hi.data(), D, cell, n);
+        if (l.kind == grid_kind::hashed) {
+            double extent = 0;
+            for (int a = 0; a < D; ++a) {
+                // The CPU's hashed kernels count cells from 0: the keys of far cells stay exact
+                // up to 2^52 cells out, with no subtraction to round.
                 l.origin[a] = 0;
                 const double far = std::max(std::abs(lo[a]), std::abs(hi[a]));
                 if (far * l.inv_cell[a] >= max_cell_coordinate)
@@ -178,15 +169,9 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
                                 " is more than 2^52 cells from the origin");
                 extent = std::max(extent, far);
             }
+            // Queries farther out than every point by the stencil and a cell have no neighbors.
+            l.far_bound = extent + (l.reach + 2) * cell;
         }
-        // Queries farther out than every point by the stencil and a cell have no neighbors.
-        if (l.kind == grid_kind::hashed) l.far_bound = extent + (l.reach + 2) * cell;
-    }
-    if (l.kind == grid_kind::uniform) {
-        l.slots = 1;
-        for (int a = 0; a < D; ++a) l.slots *= std::size_t(l.dims[a]);
-    } else {
-        l.slots = std::bit_ceil(std::max<std::size_t>(n, 64));
     }
     return l;
 }

@@ -54,7 +54,7 @@ struct query_engine {
     /// Query indices ordered by the grid slot of their cell (stable), so that the queries of a
     /// cell are consecutive and share one candidate block.
     std::vector<std::uint32_t> queries_by_cell(std::span<const T> queries) const {
-        const std::size_t n = queries.size() / D, slots = g.cell_count();
+        const std::size_t n = queries.size() / D, slots = g.slot_count();
         std::vector<std::uint32_t> slot(n);
         for_each_chunk(n, chunk_count(n, threads, 1 << 14), threads, [&](std::size_t, std::size_t b, std::size_t e) {
             for (std::size_t q = b; q < e; ++q) {

@@ -43,10 +43,10 @@ void for_each_cell_group(const grid<T, D>& g, std::size_t b, std::size_t e, std:
 /// since a block of a few points costs more to gather than to test.
 template <class T, int D>
 std::int64_t group_width_for(const grid<T, D>& g) {
-    if (g.kind() != grid_kind::uniform || g.periodic() || g.nonempty_cells() == 0) return 1;
+    if (g.kind() != grid_kind::uniform || g.periodic() || g.occupied_slots() == 0) return 1;
     // Measured on lattices: 8 points per cell (W1) are best one cell at a time, 4 per cell
     // (W4) three at a time (lists 25% faster, counts 30%).
-    const double per_cell = double(g.size()) / double(g.nonempty_cells());
+    const double per_cell = double(g.size()) / double(g.occupied_slots());
     return std::clamp<std::int64_t>(std::int64_t(12.0 / per_cell), 1, 4);
 }
 

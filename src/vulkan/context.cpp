@@ -150,7 +150,7 @@ search_result search_in(context& ctx, std::span<const float> coords, float radiu
         out.lists = k ? g.query_nearest(queries, k, lo) : g.query(queries, lo);
     const auto t2 = clock::now();
     out.kind = g.kind();
-    out.cells = g.cell_count();
+    out.slots = g.slot_count();
     out.build_ms = ms(t0, t1);
     out.query_ms = ms(t1, t2);
     return out;

@@ -121,7 +121,7 @@ basic_search_result<double> search_double(context& ctx, std::span<const double> 
         lists.offsets[i + 1] = lists.indices.size();
     }
     out.kind = g.kind();
-    out.cells = g.cell_count();
+    out.slots = g.slot_count();
     out.build_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
     out.query_ms = std::chrono::duration<double, std::milli>(clock::now() - t1).count();
     return out;

@@ -45,11 +45,13 @@ std::size_t grid<D>::size() const { return state_->n; }
 template <int D>
 float grid<D>::radius() const { return state_->radius; }
 template <int D>
-float grid<D>::search_scale() const { return state_->scale; }
+float grid<D>::search_scale() const { return state_->geometry.scale; }
 template <int D>
-grid_kind grid<D>::kind() const { return state_->kind; }
+grid_kind grid<D>::kind() const { return state_->geometry.kind; }
 template <int D>
-std::size_t grid<D>::cell_count() const { return state_->slots; }
+std::size_t grid<D>::slot_count() const { return state_->geometry.slots; }
+template <int D>
+const grid_geometry<float>& grid<D>::geometry() const { return state_->geometry; }
 template <int D>
 context& grid<D>::owner() const { return *state_->ctx; }
 

@@ -40,7 +40,7 @@ void grid_state::build_from_host(std::span<const float> coords, float r, const g
         coords = scaled;
     }
     const grid_layout l = configure(o, count, r, s, lo, hi, coords);
-    commit(coords.data(), {}, count, r, s, l);
+    commit(coords.data(), {}, count, r, l);
 }
 
 // The caller's buffer: checked and measured on the device (scratch buffers only).
@@ -80,20 +80,18 @@ void grid_state::build_from_device(buffer_view coords, std::size_t count, float 
         throw error("vulkan::grid::build: radius " + shortest(r) + " needs a search scale (r^2 leaves "
                     "float's normal range outside [2^-49, 2^63) = [1.78e-15, 9.22e18]), which a build from a "
                     "buffer_view cannot apply in place; build from host coordinates (scaled on the host)");
-    commit(nullptr, in, count, r, 1, configure(o, count, r, 1, lo, hi, {}));
+    commit(nullptr, in, count, r, configure(o, count, r, 1, lo, hi, {}));
 }
 
 // Everything checked: from here the grid changes, and any failure leaves it empty.
-void grid_state::commit(const float* host, buffer_view coords, std::size_t count, float r, float s,
+void grid_state::commit(const float* host, buffer_view coords, std::size_t count, float r,
                         const grid_layout& l) {
     try {
         built = false;
         n = count;
         radius = r;
-        scale = s;
+        geometry = l.geometry;
         params = l.params;
-        kind = l.kind;
-        slots = l.slots;
         const std::size_t nb = std::max<std::size_t>(n, 1);
         if (host) {
             ensure(own_pos, nb * dim * 4, "input positions");
@@ -102,7 +100,7 @@ void grid_state::commit(const float* host, buffer_view coords, std::size_t count
         }
         pos = coords;
         ensure(params_buf, sizeof(grid_params), "grid parameters");
-        ensure(start, (slots + 1) * 4, "cell starts");
+        ensure(start, (geometry.slots + 1) * 4, "cell starts");
         ensure(point_slot, nb * 4, "point slots");
         ensure(point_rank, nb * 4, "point ranks");
         ensure(point_cell, nb * dim * 4, "point cells");
@@ -111,7 +109,7 @@ void grid_state::commit(const float* host, buffer_view coords, std::size_t count
         ensure(inverse, nb * 4, "original-to-sorted map");
         ensure(sorted_pos, nb * dim * 4, "sorted positions");
         ensure(sorted_cell, nb * dim * 4, "sorted cells");
-        ensure(scan_scratch, scan_scratch_bytes(slots + 1), "scan scratch");
+        ensure(scan_scratch, scan_scratch_bytes(geometry.slots + 1), "scan scratch");
 
         // Insert, scan, scatter, stable pass: one submission.
         const std::uint32_t c = std::uint32_t(n);
@@ -119,19 +117,19 @@ void grid_state::commit(const float* host, buffer_view coords, std::size_t count
         dev->begin();
         clear_status();
         dev->update(params_buf.view(0, sizeof(grid_params)), &params, sizeof(grid_params));
-        dev->fill(start.view(0, (slots + 1) * 4), 0u);
+        dev->fill(start.view(0, (geometry.slots + 1) * 4), 0u);
         if (n > 0) {
             dev->dispatch(dev->get(shader::insert, dim, kind_code()),
-                          {params_buf.view(0, sizeof(grid_params)), pos, start.view(0, (slots + 1) * 4),
+                          {params_buf.view(0, sizeof(grid_params)), pos, start.view(0, (geometry.slots + 1) * 4),
                            point_slot.view(0, n4(1)), point_rank.view(0, n4(1)), point_cell.view(0, n4(dim))},
                           nullptr, 0, groups_for(n, group_size));
-            record_scan(start.view(0, (slots + 1) * 4), slots + 1, 0);
+            record_scan(start.view(0, (geometry.slots + 1) * 4), geometry.slots + 1, 0);
             dev->dispatch(dev->get(shader::scatter, dim),
-                          {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), point_rank.view(0, n4(1)),
+                          {start.view(0, (geometry.slots + 1) * 4), point_slot.view(0, n4(1)), point_rank.view(0, n4(1)),
                            tmp.view(0, n4(1))},
                           &c, 4, groups_for(n, group_size));
             dev->dispatch(dev->get(shader::stable, dim),
-                          {start.view(0, (slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
+                          {start.view(0, (geometry.slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
                            point_cell.view(0, n4(dim)), perm.view(0, n4(1)), inverse.view(0, n4(1)),
                            sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim)), status_word()},
                           &c, 4, groups_for(n, group_size));
@@ -149,10 +147,9 @@ void grid_state::clear() {
     built = false;
     n = 0;
     radius = 0;
-    scale = 1;
+    geometry = {};
+    geometry.slots = 1;
     params = {};
-    kind = grid_kind::uniform;
-    slots = 1;
     pos = {};
 }
 

@@ -1,5 +1,6 @@
-// What a Vulkan grid build will set up, computed and checked before anything changes: the
-// kind (the CPU grid's policy), the cells of the open or periodic box, the search scale.
+// What a Vulkan grid build will set up, computed and checked before anything changes: its
+// grid_geometry (the CPU grid's kind policy and cell rules, with cells r wide) and, from it, the
+// parameters of grid.glsl.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -22,17 +23,17 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
     for (int a = 0; a < dim; ++a) lo[a] = lo_in[a], hi[a] = hi_in[a];
     frnn::detail::apply_domain(o, dim, double(s), double(std::numeric_limits<float>::max()), lo, hi,
                                "vulkan::grid::build: ");
-    const float search_r = r * s;
-    const double cell = o.cell_size > 0 ? o.cell_size * double(s) : double(search_r);
     grid_layout l;
-    grid_params& p = l.params;
-    for (int a = 0; a < 4; ++a) p.dims[a] = 1, p.inv_cell[a] = 1;
-    p.radius = search_r;
-    p.radius2 = search_r * search_r;  // the CPU grid's r2, in float and search units
-    p.count = std::uint32_t(count);
+    grid_geometry<float>& g = l.geometry;
+    g.scale = s;
+    g.search_radius = r * s;
+    // The device visits the cells that [x - r, x + r] touches, with its own float margin
+    // (grid.glsl), so cells are as asked, without the CPU grid's margin.
+    const double cell = o.cell_size > 0 ? o.cell_size * double(s) : double(g.search_radius);
+    g.reach = int(std::ceil(double(g.search_radius) / cell));
     const double max_cells = double(dev->info().max_storage_buffer_range) / 4 - 1;
     if (!o.periodic.empty()) {
-        configure_periodic(l, o, count, r, s, cell, lo, hi);
+        configure_periodic(g, o, count, r, s, cell, lo, hi);
     } else {
         frnn::detail::kind_question q;
         q.asked = o.kind;
@@ -40,54 +41,40 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
         for (int a = 0; a < dim; ++a) q.lo[a] = lo[a], q.hi[a] = hi[a];
         q.explicit_domain = !o.domain_min.empty();
         q.cell = cell;
-        q.radius = double(search_r);
+        q.radius = double(g.search_radius);
         q.hashed_key_limit = INFINITY;
         q.uniform_cell_limit = max_cells;
         // (One thread: the host's share of a device build is a sample and one pass.)
         const frnn::detail::kind_answer choice = dim == 2 ? frnn::detail::choose_kind<float, 2>(q, points, 1)
                                                           : frnn::detail::choose_kind<float, 3>(q, points, 1);
-        const double cells = choice.cells;
-        for (int a = 0; a < dim; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
-        l.kind = choice.kind;
-        if (l.kind == grid_kind::uniform && !(cells <= max_cells))
-            throw error("vulkan::grid::build: a uniform grid over this domain would need " + std::to_string(cells) +
-                        " cells, more than one storage buffer of this device holds (" +
+        g.kind = choice.kind;
+        if (g.kind == grid_kind::uniform && !(choice.cells <= max_cells))
+            throw error("vulkan::grid::build: a uniform grid over this domain would need " +
+                        std::to_string(choice.cells) + " cells, more than one storage buffer of this device holds (" +
                         std::to_string(std::size_t(max_cells)) + "); use the hashed grid");
-        const auto dims = frnn::detail::uniform_cells(lo, hi, dim, cell);
-        for (int a = 0; a < dim; ++a) {
-            p.inv_cell[a] = float(1.0 / cell);
-            // Both kinds count cells from the lower corner: small cell coordinates keep the float
-            // rounding (and the search margin that covers it) small.
-            p.origin[a] = float(lo[a]);
-            if (l.kind == grid_kind::uniform) p.dims[a] = std::int32_t(dims[a]);
-        }
-        if (l.kind == grid_kind::uniform) {
-            l.slots = 1;
-            for (int a = 0; a < dim; ++a) l.slots *= std::size_t(p.dims[a]);
-        } else {
-            l.slots = std::bit_ceil(std::max<std::size_t>(count, 64));
-        }
-        p.hashed = l.kind == grid_kind::hashed;
-        p.mask = l.kind == grid_kind::hashed ? std::uint32_t(l.slots - 1) : 0;
-        p.slots = std::uint32_t(l.slots);
+        // Both kinds count cells from the lower corner: small cell coordinates keep the float
+        // rounding (and the search margin that covers it) small.
+        frnn::detail::lay_out_open_cells(g, choice.lo, choice.hi, dim, cell, count);
     }
     // Checked here, not when allocating: a build that cannot fit leaves the grid as it was.
-    if (!(double(l.slots) <= max_cells))
-        throw error("vulkan::grid::build: " + std::to_string(l.slots) + " slots need more than one storage buffer "
+    if (!(double(g.slots) <= max_cells))
+        throw error("vulkan::grid::build: " + std::to_string(g.slots) + " slots need more than one storage buffer "
                     "of this device holds (maxStorageBufferRange " +
                     std::to_string(dev->info().max_storage_buffer_range) + " bytes)");
+    l.params = device_params(g, count);
     return l;
 }
 
-// Periodic box [0, L) per axis: a uniform grid of at least r-sized cells, L / dims each, as on
-// the CPU (very sparse boxes get fewer, larger cells). Lengths are checked in the caller's units.
-void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::size_t count, float r, float s,
-                                    double cell, const double* lo, const double* hi) const {
+// Periodic box [0, L) per axis: the CPU grid's cells (cell_rules.hpp). Lengths are checked in
+// the caller's units.
+void grid_state::configure_periodic(grid_geometry<float>& g, const grid_options& o, std::size_t count, float r,
+                                    float s, double cell, const double* lo, const double* hi) const {
     if (o.periodic.size() != std::size_t(dim))
         throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) + " lengths, got " +
                     std::to_string(o.periodic.size()));
-    grid_params& p = l.params;
     double search_box[3] = {0, 0, 0};
+    g.periodic = true;
+    g.inside_box = true;
     for (int a = 0; a < dim; ++a) {
         const double length = o.periodic[a];
         if (!std::isfinite(length) || length < 2 * double(r) || length > double(std::numeric_limits<float>::max()))
@@ -95,23 +82,34 @@ void grid_state::configure_periodic(grid_layout& l, const grid_options& o, std::
                         std::to_string(a) + " is smaller than twice the radius (" + std::to_string(2 * double(r)) +
                         ") or not a finite float");
         // The oracle's box: the length rounded to float, then scaled (exact: a power of two).
-        p.box[a] = float(length) * s;
-        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(p.box[a]) * 0x1p30)
+        g.box[a] = float(length) * s;
+        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(g.box[a]) * 0x1p30)
             throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
                         std::to_string(a));
+        g.inside_box = g.inside_box && lo[a] >= 0 && hi[a] < double(g.box[a]);
         search_box[a] = length * double(s);
     }
-    const auto dims = frnn::detail::periodic_cells(search_box, dim, cell, count);
-    for (int a = 0; a < dim; ++a) p.dims[a] = std::int32_t(dims[a]);
-    l.kind = grid_kind::uniform;
-    l.slots = 1;
+    frnn::detail::lay_out_periodic_cells(g, search_box, dim, cell, count);
+}
+
+// grid.glsl's parameters from the geometry.
+grid_params grid_state::device_params(const grid_geometry<float>& g, std::size_t count) const {
+    grid_params p{};
+    for (int a = 0; a < 4; ++a) p.dims[a] = 1, p.inv_cell[a] = 1;
     for (int a = 0; a < dim; ++a) {
-        p.inv_cell[a] = float(double(p.dims[a]) / double(p.box[a]));
-        l.slots *= std::size_t(p.dims[a]);
+        p.origin[a] = float(g.origin[a]);
+        p.inv_cell[a] = float(g.inv_cell[a]);
+        p.box[a] = g.box[a];
+        if (g.kind == grid_kind::uniform) p.dims[a] = std::int32_t(g.dims[a]);
     }
-    p.periodic = 1;
-    p.hashed = 0;
-    p.slots = std::uint32_t(l.slots);
+    p.radius = g.search_radius;
+    p.radius2 = g.search_radius * g.search_radius;  // the CPU grid's r2, in float and search units
+    p.count = std::uint32_t(count);
+    p.hashed = g.kind == grid_kind::hashed;
+    p.mask = g.kind == grid_kind::hashed ? std::uint32_t(g.slots - 1) : 0;
+    p.slots = std::uint32_t(g.slots);
+    p.periodic = g.periodic;
+    return p;
 }
 
 // The checks that need neither the points nor the device.

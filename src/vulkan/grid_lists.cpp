@@ -17,18 +17,18 @@ grid_state::row_source grid_state::upload_queries(std::span<const float> q, cons
         if (!std::isfinite(q[i]))
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " has a non-finite coordinate (axis " + std::to_string(i % dim) + ")");
-        if (params.periodic && std::abs(double(q[i]) * scale) >= double(params.box[i % dim]) * 0x1p30)
+        if (params.periodic && std::abs(double(q[i]) * geometry.scale) >= double(params.box[i % dim]) * 0x1p30)
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " lies more than 2^30 periodic boxes away on axis " + std::to_string(i % dim));
     }
     std::vector<float> scaled;
-    if (scale != 1) {
+    if (geometry.scale != 1) {
         // In search units, as the oracle multiplies them. A far query may overflow when s > 1:
         // the oracle's differences are then infinite (no neighbors), and a point at 2^127 has
         // none either, since scaled data lie below 2^126 (search_scale) and r*s is far smaller.
         scaled.resize(q.size());
         for (std::size_t i = 0; i < q.size(); ++i) {
-            const float y = q[i] * scale;
+            const float y = q[i] * geometry.scale;
             scaled[i] = std::isinf(y) ? std::copysign(0x1p127f, q[i]) : y;
         }
         q = scaled;
@@ -147,7 +147,7 @@ csr<float> grid_state::lists_to_host(const list_options& o, std::size_t k, const
             dev->download(dist2.view(0, chunk * 4), d, chunk * 4);
             // The host's sqrt is correctly rounded, so distances match the CPU grid bit for bit;
             // 1/s brings them back to the caller's units (as distance_test::distance does).
-            const float inv = 1.0f / scale;
+            const float inv = 1.0f / geometry.scale;
             for (std::size_t e = 0; e < chunk; ++e) d[e] = std::sqrt(d[e]) * inv;
         }
         r0 = r1;

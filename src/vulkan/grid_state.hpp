@@ -47,9 +47,8 @@ inline std::string shortest(double v) {
 
 // What a build sets, computed (and checked) before any member changes.
 struct grid_layout {
-    grid_params params{};
-    grid_kind kind = grid_kind::uniform;
-    std::size_t slots = 1;
+    grid_geometry<float> geometry;
+    grid_params params{};  // grid.glsl's, from the geometry
 };
 
 struct grid_state {
@@ -58,9 +57,9 @@ struct grid_state {
     int dim = 3;
     std::size_t n = 0;
     float radius = 0;  // the caller's
-    float scale = 1;   // the search scale s (frnn/search_scale.hpp): the device works on x*s, r*s
-    grid_kind kind = grid_kind::uniform;
-    std::size_t slots = 1;
+    // Kind, cells, slots and the search scale s (frnn/search_scale.hpp: the device works on
+    // x*s, r*s).
+    grid_geometry<float> geometry;
     grid_params params{};
     bool built = false;
 
@@ -107,13 +106,13 @@ struct grid_state {
     std::array<buffer_view, 5> grid_views() const {
         return {params_buf.view(0, sizeof(grid_params)), sorted_pos.view(0, std::max<std::size_t>(n * dim * 4, 4)),
                 sorted_cell.view(0, std::max<std::size_t>(n * dim * 4, 4)),
-                start.view(0, (slots + 1) * 4), perm.view(0, std::max<std::size_t>(n * 4, 4))};
+                start.view(0, (geometry.slots + 1) * 4), perm.view(0, std::max<std::size_t>(n * 4, 4))};
     }
 
     // The specialization of the kind-dependent shaders (insert and the queries).
     kind_constant kind_code() const {
         if (params.periodic) return kind_constant::periodic;
-        return kind == grid_kind::hashed ? kind_constant::hashed : kind_constant::uniform;
+        return geometry.kind == grid_kind::hashed ? kind_constant::hashed : kind_constant::uniform;
     }
 
     void check_built(const char* what) const {
@@ -122,15 +121,16 @@ struct grid_state {
 
     grid_layout configure(const grid_options& o, std::size_t count, float r, float s, const float* lo,
                           const float* hi, std::span<const float> points) const;
-    void configure_periodic(grid_layout& l, const grid_options& o, std::size_t count, float r, float s, double cell,
-                            const double* lo, const double* hi) const;
+    void configure_periodic(grid_geometry<float>& g, const grid_options& o, std::size_t count, float r, float s,
+                            double cell, const double* lo, const double* hi) const;
+    grid_params device_params(const grid_geometry<float>& g, std::size_t count) const;
     void check_arguments(std::size_t count, float r, const grid_options& o) const;
     float scale_for(float r, const float* lo, const float* hi, const grid_options& o) const;
     // A build checks everything first (the grid stays as it was when a check fails), then
     // commits; a failure during the commit leaves the grid empty.
     void build_from_host(std::span<const float> coords, float r, const grid_options& o);
     void build_from_device(buffer_view coords, std::size_t count, float r, const grid_options& o);
-    void commit(const float* host, buffer_view coords, std::size_t count, float r, float s, const grid_layout& l);
+    void commit(const float* host, buffer_view coords, std::size_t count, float r, const grid_layout& l);
     void clear();
     std::uint32_t flags(const list_options& o) const {
         std::uint32_t f = 0;

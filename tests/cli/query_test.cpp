@@ -191,8 +191,8 @@ TEST(cli_query, json_summary_parses_and_agrees) {
     EXPECT_DOUBLE_EQ(j["mean_neighbors"].get<double>(), double(full.size()) / 300);
     EXPECT_EQ(j["max_neighbors"], max_row);
     EXPECT_EQ(j["grid"], "hash");
-    EXPECT_GE(j["cells"].get<std::size_t>(), j["nonempty_cells"].get<std::size_t>());
-    EXPECT_GT(j["nonempty_cells"].get<std::size_t>(), 0u);
+    EXPECT_GE(j["slots"].get<std::size_t>(), j["occupied_slots"].get<std::size_t>());
+    EXPECT_GT(j["occupied_slots"].get<std::size_t>(), 0u);
     for (const char* stage : {"read", "build", "query", "write"}) EXPECT_GE(j["time_ms"][stage].get<double>(), 0.0);
 }
 

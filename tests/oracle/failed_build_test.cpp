@@ -25,7 +25,7 @@ struct snapshot {
     std::vector<std::uint32_t> perm;
 
     explicit snapshot(const grid<T, D>& g)
-        : size(g.size()), cells(g.cell_count()), kind(g.kind()), radius(g.radius()), scale(g.search_scale()),
+        : size(g.size()), cells(g.slot_count()), kind(g.kind()), radius(g.radius()), scale(g.search_scale()),
           reach(g.reach()), periodic(g.periodic()), box(g.options().periodic),
           perm(g.sorted_to_original().begin(), g.sorted_to_original().end()) {}
     bool operator==(const snapshot&) const = default;

@@ -119,7 +119,7 @@ TEST(OracleThreads, SparseUniformFloat2D) {
     grid_options opt;
     opt.kind = grid_kind::uniform;
     const grid<float, 2> probe(pts, 1.0f, opt);
-    ASSERT_GT(probe.cell_count(), std::size_t(1) << 17);
+    ASSERT_GT(probe.slot_count(), std::size_t(1) << 17);
     invariance_case<float, 2>(pts, 1.0f, opt, query_points<float, 2>(pts, 1.0, 2500, {}, 210),
                               {grid_kind::uniform});
 }

@@ -69,7 +69,7 @@ TEST(grid_basics, hashed_grid_counts_cells_not_slots_and_keeps_cells_apart_in_sh
     for (std::size_t i = 0; i < 3000; ++i) cells.insert(g.geometry().cell_of(std::array<double, 3>{p[3 * i], p[3 * i + 1], p[3 * i + 2]}));
     const std::size_t occupied = grid_access::cell_starts(g).size() - 1;  // one start per occupied slot
     ASSERT_LT(occupied + 500, cells.size());  // many slots are shared
-    EXPECT_EQ(g.nonempty_cells(), cells.size());
+    EXPECT_EQ(g.occupied_slots(), cells.size());
     const auto ref = frnn::brute_force_lists<double, 3>(p, p, 0.8, true);
     frnn::list_options lo;
     lo.order = frnn::row_order::index;
@@ -96,10 +96,10 @@ TEST(grid_basics, hashed_grid_of_clusters_keeps_starts_of_occupied_slots_only) {
     frnn::grid_options o;
     o.kind = frnn::grid_kind::hashed;
     frnn::grid<double, 3> g(p, 1.0, o);
-    ASSERT_GE(g.cell_count(), n);
+    ASSERT_GE(g.slot_count(), n);
     // One start per occupied slot (a few slots hold two cells).
-    EXPECT_LE(grid_access::cell_starts(g).size() - 1, g.nonempty_cells());
-    EXPECT_GT(grid_access::cell_starts(g).size() - 1, g.nonempty_cells() * 9 / 10);
+    EXPECT_LE(grid_access::cell_starts(g).size() - 1, g.occupied_slots());
+    EXPECT_GT(grid_access::cell_starts(g).size() - 1, g.occupied_slots() * 9 / 10);
     const std::size_t points = (n + frnn::detail::coordinate_padding) * 3 * sizeof(double) + n * sizeof(std::uint32_t);
     EXPECT_LT(g.memory_bytes() - points, n);
     // The same after a rebuild over other points: the table of every slot is built and freed again.
@@ -124,7 +124,7 @@ TEST(grid_basics, small_cells_on_a_dense_lattice_keep_the_uniform_grid) {
     o.cell_size = 0.5;
     frnn::grid<double, 3> g(p, 2.0, o);
     EXPECT_EQ(g.kind(), frnn::grid_kind::uniform);
-    EXPECT_GT(g.cell_count(), 4 * g.size());
+    EXPECT_GT(g.slot_count(), 4 * g.size());
     const auto ref = frnn::brute_force_lists<double, 3>(p, p, 2.0, true);
     frnn::list_options lo;
     lo.order = frnn::row_order::index;

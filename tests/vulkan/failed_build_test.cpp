@@ -86,7 +86,7 @@ struct snapshot {
     float radius, scale;
     bool operator==(const snapshot&) const = default;
 };
-snapshot state_of(const grid<3>& g) { return {g.size(), g.cell_count(), g.kind(), g.radius(), g.search_scale()}; }
+snapshot state_of(const grid<3>& g) { return {g.size(), g.slot_count(), g.kind(), g.radius(), g.search_scale()}; }
 
 // Builds `g` over `pts`, then runs every failing rebuild, checking the message and that the
 // grid is unchanged: same state, and the oracle's answers over the old points.

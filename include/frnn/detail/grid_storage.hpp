@@ -16,7 +16,7 @@ inline constexpr std::size_t coordinate_padding = 16;
 /// Hashed grid: which of 32 table slots hold points (bit k for slot 32 w + k), and how many
 /// slots before them do. An occupied slot's index among the occupied ones is one popcount away,
 /// so the table stores a start only per occupied slot (4 bytes each, not 4 per slot).
-struct occupied_slots {
+struct occupied_slot_word {
     std::uint32_t bits;
     std::uint32_t before;
 };
