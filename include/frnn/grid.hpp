@@ -243,7 +243,14 @@ private:
     /// `storage` when they need scaling or bringing back (see search_point).
     std::span<const T> search_queries(std::span<const T> queries, std::vector<T>& storage) const;
     void clear() noexcept;
+    // The build's steps (grid_build.cpp).
+    void keep_input_coordinates(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
+    void size_sort_arrays(std::size_t n, std::size_t parts);
+    bool count_slots(std::span<const T> coords, std::uint32_t* slot_of, std::size_t parts);
+    void start_chunks_in_cells(std::size_t parts);
+    void scatter_into_cells(std::span<const T> coords, const std::uint32_t* slot_of, bool nearly_sorted,
+                            std::size_t parts);
     void scatter_by_buckets(std::span<const T> coords, const std::uint32_t* slot_of, std::uint32_t* bucket_slots,
                             std::size_t parts);
     template <class Record>

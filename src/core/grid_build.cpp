@@ -1,4 +1,4 @@
-// Grid construction: the counting sort (per-thread cell counts, exclusive prefix sum, stable
+// Grid construction: the counting sort (per-chunk cell counts, exclusive prefix sum, stable
 // scatter) over the geometry that grid_plan.cpp chooses. The cell index that follows is in
 // grid_cell_index.cpp, the stencils' runs in grid_stencils.cpp.
 #include <algorithm>
@@ -87,28 +87,35 @@ void grid<T, D>::clear() noexcept {
     }
 }
 
+// 1. Plan the geometry (checks everything, changes nothing), 2. take it, 3. sort the points
+// into cells and index them, 4. keep the caller's coordinates when the search scale is not 1.
+// A failure after step 1 leaves the grid empty.
 template <class T, int D>
 void grid<T, D>::build(std::span<const T> coords, T radius, const grid_options& options) {
     std::vector<T> scaled;
-    const grid_geometry<T> layout = detail::plan_geometry<T, D>(coords, radius, options, scaled);
+    const grid_geometry<T> planned = detail::plan_geometry<T, D>(coords, radius, options, scaled);
     if (&options != &options_) options_ = options;
     radius_ = radius;
-    geometry_ = layout;
+    geometry_ = planned;
     try {
         sort_into_cells(scaled.empty() ? coords : std::span<const T>(scaled));
-        // A scaled grid keeps the caller's coordinates too (scaling may round tiny ones).
-        const std::size_t n = size();
-        for (int a = 0; a < D; ++a) {
-            if (layout.scale == 1) {
-                input_pos_[a] = buffer<T>();
-                continue;
-            }
-            input_pos_[a].resize(n);
-            for (std::size_t s = 0; s < n; ++s) input_pos_[a][s] = coords[std::size_t(perm_[s]) * D + a];
-        }
+        keep_input_coordinates(coords);
     } catch (...) {
         clear();
         throw;
+    }
+}
+
+// A scaled grid keeps the caller's coordinates too, in cell order (scaling may round tiny ones).
+template <class T, int D>
+void grid<T, D>::keep_input_coordinates(std::span<const T> coords) {
+    for (int a = 0; a < D; ++a) {
+        if (geometry_.scale == 1) {
+            input_pos_[a] = buffer<T>();
+            continue;
+        }
+        input_pos_[a].resize(size());
+        for (std::size_t s = 0; s < size(); ++s) input_pos_[a][s] = coords[std::size_t(perm_[s]) * D + a];
     }
 }
 
@@ -152,13 +159,44 @@ void grid<T, D>::store_records(const Record* records, std::size_t begin, std::si
     }
 }
 
+// A stable counting sort by slot, in fixed chunks of the input: chunk c's points go after
+// chunk c-1's in every cell, which keeps the order the same for any number of threads.
+// 1. slot and count, 2. each chunk's start within each cell, 3. each cell's start,
+// 4. scatter, 5. index the cells.
 template <class T, int D>
 void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     const std::size_t n = coords.size() / D;
     const int threads = resolve_thread_count(options_.threads);
-    // Fixed chunks for count and scatter: chunk c's points go after chunk c-1's in every cell,
-    // which keeps the sort stable for any number of chunks.
     const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
+    size_sort_arrays(n, parts);
+    std::uint32_t* const slot_of = reinterpret_cast<std::uint32_t*>(scratch_.bytes.data());
+    const bool nearly_sorted = count_slots(coords, slot_of, parts);
+    start_chunks_in_cells(parts);
+    detail::exclusive_scan(offsets_.data(), geometry_.slots + 1, threads);
+    scatter_into_cells(coords, slot_of, nearly_sorted, parts);
+    detail::free_lazily(scratch_.bytes.data(), scratch_.bytes.data() + scratch_.bytes.size());
+    index_cells();
+}
+
+namespace {
+// The build scratch: the slot of every input point (written by the count, read by the
+// scatter: cheaper than computing it twice), then room for a scatter of input in random order:
+// the records of input that fits the cache, or the slots of larger input in bucket order.
+template <class T, int D>
+struct scratch_layout {
+    std::size_t slot_bytes, record_bytes, extra_bytes;
+    explicit scratch_layout(std::size_t n)
+        : slot_bytes((n * sizeof(std::uint32_t) + 63) / 64 * 64),
+          record_bytes(n * sizeof(point_record<T, D>) <= cached_scatter_bytes ? n * sizeof(point_record<T, D>) : 0),
+          extra_bytes(record_bytes > 0 ? record_bytes : n * sizeof(std::uint32_t)) {}
+};
+}  // namespace
+
+// The arrays of n points and the scratch. The scratch is kept for the next rebuild, which
+// saves the system's zeroing of fresh pages (only pages used are touched); after the build the
+// system may take it back when short of memory.
+template <class T, int D>
+void grid<T, D>::size_sort_arrays(std::size_t n, std::size_t parts) {
     // Padding: the SIMD kernels may load a few values past the last point (and mask them off).
     for (auto& p : pos_) {
         p.resize(n + detail::coordinate_padding);
@@ -168,27 +206,20 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     inverse_.invalidate();
     offsets_.assign(geometry_.slots + 1, 0);
     thread_counts_.assign(parts * geometry_.slots, 0);
-
-    // Scratch: the slot of every input point, written by the insert pass and read by the
-    // scatter (cheaper than computing it twice), then room for step 4 with input in random
-    // order: the records of input that fits the cache, or the slots of larger input in bucket
-    // order (pages touched only if used). The memory is kept for the next rebuild, which
-    // saves the system's zeroing of fresh pages; after the build the system may take it back
-    // when short of memory.
-    using record = point_record<T, D>;
-    const std::size_t slot_bytes = (n * sizeof(std::uint32_t) + 63) / 64 * 64;
-    const std::size_t record_bytes = n * sizeof(record) <= cached_scatter_bytes ? n * sizeof(record) : 0;
-    const std::size_t extra = record_bytes > 0 ? record_bytes : n * sizeof(std::uint32_t);
+    const scratch_layout<T, D> layout(n);
     buffer<std::byte>& scratch = scratch_.bytes;
-    if (scratch.capacity() < slot_bytes + extra) scratch = buffer<std::byte>();  // no copy
-    scratch.resize(slot_bytes + extra);
-    std::uint32_t* const slot_of = reinterpret_cast<std::uint32_t*>(scratch.data());
+    if (scratch.capacity() < layout.slot_bytes + layout.extra_bytes) scratch = buffer<std::byte>();  // no copy
+    scratch.resize(layout.slot_bytes + layout.extra_bytes);
+}
 
-    // 1. Insert: the slots (in vector code, a batch at a time), per-chunk counts of every
-    // cell, and how many points fall in the cell of the point before them or the next one
-    // (input already in cell order, or nearly).
+// 1. The slot of every point (in vector code, a batch at a time) and each chunk's count of
+// every slot. True when most points fall in the slot of the point before them or the next one
+// (input already in cell order, or nearly).
+template <class T, int D>
+bool grid<T, D>::count_slots(std::span<const T> coords, std::uint32_t* slot_of, std::size_t parts) {
+    const std::size_t n = coords.size() / D;
     std::vector<std::size_t> local(parts, 0);
-    detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
+    detail::for_each_chunk(n, parts, resolve_thread_count(options_.threads), [&](std::size_t c, std::size_t b, std::size_t e) {
         constexpr std::size_t batch = 256;
         for (std::size_t i = b; i < e; i += batch) input_slots(coords.data(), i, std::min(e, i + batch), slot_of + i);
         std::uint32_t* counts = thread_counts_.data() + c * geometry_.slots;
@@ -202,7 +233,15 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         }
         local[c] = near;
     });
-    // 2. Per cell: start of each chunk inside the cell, and the cell's total.
+    std::size_t near = 0;
+    for (auto v : local) near += v;
+    return 2 * near >= n;
+}
+
+// 2. Per slot: the start of each chunk's points inside the slot, and the slot's total.
+template <class T, int D>
+void grid<T, D>::start_chunks_in_cells(std::size_t parts) {
+    const int threads = resolve_thread_count(options_.threads);
     const std::size_t slot_parts = detail::chunk_count(geometry_.slots, threads, 1 << 14);
     detail::for_each_chunk(geometry_.slots, slot_parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t s = b; s < e; ++s) {
@@ -215,16 +254,22 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
             offsets_[s] = sum;
         }
     });
-    // 3. Exclusive prefix sum: where each cell starts.
-    detail::exclusive_scan(offsets_.data(), geometry_.slots + 1, threads);
-    // 4. Stable scatter into cell order. Input in cell order (or nearly) is written straight
-    // into the arrays: its writes stay within a few cells. Other input would miss the cache
-    // on its D + 1 scattered writes per point. When its records fit the cache, each point goes
-    // as one record to a scratch array, which a streaming pass splits into the arrays; larger
-    // input goes through buckets first.
-    std::size_t near = 0;
-    for (auto v : local) near += v;
-    if (2 * near >= n) {
+}
+
+// 4. Stable scatter into cell order. Input in cell order (or nearly) is written straight into
+// the arrays: its writes stay within a few cells. Other input would miss the cache on its
+// D + 1 scattered writes per point. When its records fit the cache, each point goes as one
+// record to a scratch array, which a streaming pass splits into the arrays; larger input goes
+// through buckets first.
+template <class T, int D>
+void grid<T, D>::scatter_into_cells(std::span<const T> coords, const std::uint32_t* slot_of, bool nearly_sorted,
+                                     std::size_t parts) {
+    const std::size_t n = coords.size() / D;
+    const int threads = resolve_thread_count(options_.threads);
+    using record = point_record<T, D>;
+    const scratch_layout<T, D> layout(n);
+    std::byte* const extra = scratch_.bytes.data() + layout.slot_bytes;
+    if (nearly_sorted) {
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
             std::uint32_t* next = thread_counts_.data() + c * geometry_.slots;
             for (std::size_t i = b; i < e; ++i) {
@@ -234,8 +279,8 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
                 perm_[dst] = std::uint32_t(i);
             }
         });
-    } else if (record_bytes > 0) {
-        record* const records = reinterpret_cast<record*>(scratch.data() + slot_bytes);
+    } else if (layout.record_bytes > 0) {
+        record* const records = reinterpret_cast<record*>(extra);
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
             std::uint32_t* next = thread_counts_.data() + c * geometry_.slots;
             for (std::size_t i = b; i < e; ++i) {
@@ -248,10 +293,8 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
         detail::for_each_chunk(n, detail::chunk_count(n, threads, 1 << 15), threads,
                                [&](std::size_t, std::size_t b, std::size_t e) { store_records(records + b, b, e - b); });
     } else {
-        scatter_by_buckets(coords, slot_of, reinterpret_cast<std::uint32_t*>(scratch.data() + slot_bytes), parts);
+        scatter_by_buckets(coords, slot_of, reinterpret_cast<std::uint32_t*>(extra), parts);
     }
-    detail::free_lazily(scratch.data(), scratch.data() + scratch.size());
-    index_cells();
 }
 
 // The scatter of input in random order, in two passes whose writes stay in cache:
