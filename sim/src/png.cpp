@@ -1,6 +1,8 @@
-// PNG writer with stored deflate blocks (no compression, no zlib): CRC-32 per chunk, Adler-32
-// over the image data, as the PNG and zlib specifications require.
-#include <array>
+// PNG writer and reader: 8-bit RGB, no row filter, the image data compressed by zlib (at its
+// fastest level: rendered frames are mostly flat color, which even that packs tightly), a
+// CRC-32 per chunk, as the PNG specification requires.
+#include <zlib.h>
+
 #include <cstring>
 
 #include "frnn/error.hpp"
@@ -9,19 +11,8 @@
 namespace frnn::sim {
 namespace {
 
-std::uint32_t crc32(const std::uint8_t* p, std::size_t n, std::uint32_t crc = 0) {
-    static const auto table = [] {
-        std::array<std::uint32_t, 256> t{};
-        for (std::uint32_t i = 0; i < 256; ++i) {
-            std::uint32_t c = i;
-            for (int k = 0; k < 8; ++k) c = c & 1 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-            t[i] = c;
-        }
-        return t;
-    }();
-    crc = ~crc;
-    for (std::size_t i = 0; i < n; ++i) crc = table[(crc ^ p[i]) & 0xFF] ^ (crc >> 8);
-    return ~crc;
+std::uint32_t chunk_crc(const char* p, std::size_t n) {
+    return std::uint32_t(crc32_z(0, reinterpret_cast<const Bytef*>(p), n));
 }
 
 void put32(std::string& s, std::uint32_t v) {
@@ -38,7 +29,7 @@ void chunk(std::string& out, const char* type, const std::string& data) {
     put32(out, std::uint32_t(data.size()));
     std::string body = std::string(type, 4) + data;
     out += body;
-    put32(out, crc32(reinterpret_cast<const std::uint8_t*>(body.data()), body.size()));
+    put32(out, chunk_crc(body.data(), body.size()));
 }
 
 }  // namespace
@@ -54,24 +45,12 @@ std::string encode_png(const image& img) {
         raw += '\0';
         raw.append(reinterpret_cast<const char*>(img.rgb.data()) + std::size_t(y) * row, row);
     }
-    std::string z;
-    z += char(0x78);
-    z += char(0x01);
-    std::size_t pos = 0;
-    do {
-        const std::size_t len = std::min<std::size_t>(65535, raw.size() - pos);
-        const bool last = pos + len == raw.size();
-        z += char(last ? 1 : 0);
-        z += char(len & 0xFF);
-        z += char(len >> 8);
-        z += char(~len & 0xFF);
-        z += char((~len >> 8) & 0xFF);
-        z.append(raw, pos, len);
-        pos += len;
-    } while (pos < raw.size());
-    std::uint32_t a = 1, b = 0;
-    for (unsigned char c : raw) a = (a + c) % 65521, b = (b + a) % 65521;
-    put32(z, b << 16 | a);
+    uLongf packed = compressBound(uLong(raw.size()));
+    std::string z(packed, '\0');
+    if (compress2(reinterpret_cast<Bytef*>(z.data()), &packed, reinterpret_cast<const Bytef*>(raw.data()),
+                  uLong(raw.size()), Z_BEST_SPEED) != Z_OK)
+        throw error("encode_png: zlib could not compress the image");
+    z.resize(packed);
 
     std::string out = "\x89PNG\r\n\x1a\n";
     std::string ihdr;
@@ -95,24 +74,26 @@ image decode_png(const std::string& s) {
         if (at + 12 + len > s.size()) throw error("png: chunk overruns the file at byte " + std::to_string(at));
         const std::string type = s.substr(at + 4, 4);
         const std::uint32_t crc = get32(s, at + 8 + len);
-        if (crc != crc32(reinterpret_cast<const std::uint8_t*>(s.data() + at + 4), 4 + len))
+        if (crc != chunk_crc(s.data() + at + 4, 4 + len))
             throw error("png: CRC mismatch in chunk " + type);
         if (type == "IHDR") img.width = int(get32(s, at + 8)), img.height = int(get32(s, at + 12));
         if (type == "IDAT") z += s.substr(at + 8, len);
         at += 12 + len;
     }
-    std::string raw;
-    std::size_t p = 2;
-    for (bool last = false; !last;) {
-        if (p + 5 > z.size()) throw error("png: truncated deflate stream");
-        last = z[p] & 1;
-        if ((z[p] >> 1 & 3) != 0) throw error("png: only stored deflate blocks are supported");
-        const std::size_t len = std::uint8_t(z[p + 1]) | std::size_t(std::uint8_t(z[p + 2])) << 8;
-        raw += z.substr(p + 5, len);
-        p += 5 + len;
-    }
+    if (img.width <= 0 || img.height <= 0 || img.width > (1 << 16) || img.height > (1 << 16))
+        throw error("png: image size " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                    " is not within 1 to 65536 pixels a side");
     const std::size_t row = std::size_t(img.width) * 3;
-    if (raw.size() != (row + 1) * std::size_t(img.height)) throw error("png: image data has the wrong size");
+    std::string raw((row + 1) * std::size_t(img.height), '\0');
+    uLongf size = uLongf(raw.size());
+    if (uncompress(reinterpret_cast<Bytef*>(raw.data()), &size, reinterpret_cast<const Bytef*>(z.data()),
+                   uLong(z.size())) != Z_OK ||
+        size != raw.size())
+        throw error("png: the image data is not a zlib stream of " + std::to_string(raw.size()) + " bytes");
+    for (int y = 0; y < img.height; ++y)
+        if (raw[std::size_t(y) * (row + 1)] != 0)
+            throw error("png: row " + std::to_string(y) + " uses filter " +
+                        std::to_string(int(std::uint8_t(raw[std::size_t(y) * (row + 1)]))) + "; only 0 is read");
     img.rgb.resize(row * std::size_t(img.height));
     for (int y = 0; y < img.height; ++y) std::memcpy(img.rgb.data() + std::size_t(y) * row, raw.data() + std::size_t(y) * (row + 1) + 1, row);
     return img;

@@ -1,11 +1,12 @@
 // .npz writer: a zip archive of three .npy members, stored without compression, as numpy.load
-// reads it. The zip container (local headers, central directory, CRC-32) is written here: each
+// reads it. The zip container (local headers, central directory; zlib's CRC-32) is written here: each
 // member is streamed once and its checksum patched into its local header afterwards.
 // Archives are limited to 4 GiB (no zip64); larger results should go to .npy or .csv.
+#include <zlib.h>
+
 #include <string>
 #include <vector>
 
-#include "crc32.hpp"
 #include "frnn/io/write.hpp"
 #include "npy_format.hpp"
 #include "frnn/io/atomic_file.hpp"
@@ -40,7 +41,7 @@ class crc_sink {
 public:
     explicit crc_sink(output_file& out) : out_(out) {}
     void write(const void* data, std::size_t bytes) {
-        crc_ = detail::crc32_update(crc_, data, bytes);
+        crc_ = std::uint32_t(crc32_z(crc_, static_cast<const Bytef*>(data), bytes));
         out_.write(data, bytes);
     }
     template <class U, class Source>

@@ -2,7 +2,6 @@
 // independent zip reader, and by Python when available), and the all-or-nothing output file.
 #include <cstdlib>
 
-#include "crc32.hpp"
 #include "frnn/brute_force.hpp"
 #include "frnn/io/write.hpp"
 #include "io/test_files.hpp"
@@ -156,14 +155,6 @@ TEST(npz_write, numpy_loads_the_archive) {
         "assert (np.stack([rows,i],1)==p).all()\" '" +
         (dir / "lists.npz").string() + "' '" + (dir / "pairs.npy").string() + "'";
     EXPECT_EQ(std::system(check.c_str()), 0);
-}
-
-TEST(crc32, standard_check_value) {
-    const std::string s = "123456789";
-    EXPECT_EQ(io::detail::crc32_update(0, s.data(), s.size()), 0xCBF43926u);
-    // Continuing over pieces equals one pass.
-    EXPECT_EQ(io::detail::crc32_update(io::detail::crc32_update(0, s.data(), 4), s.data() + 4, 5), 0xCBF43926u);
-    EXPECT_EQ(io::detail::crc32_update(0, s.data(), s.size()), slow_crc32(s));
 }
 
 TEST(output_file, commit_renames_and_abandon_leaves_nothing) {

@@ -45,7 +45,7 @@ scene_overrides small(int dim, std::size_t n, std::uint64_t steps, int every) {
 TEST(SimOutput, PngRoundTrip) {
     image img;
     img.width = 300;
-    img.height = 257;  // more than 64 KiB of scanlines: several stored blocks
+    img.height = 257;  // more than 64 KiB of scanlines
     img.rgb.resize(std::size_t(img.width) * std::size_t(img.height) * 3);
     for (std::size_t i = 0; i < img.rgb.size(); ++i) img.rgb[i] = std::uint8_t(i * 7 + i / 1000);
     const std::string png = encode_png(img);
@@ -57,6 +57,18 @@ TEST(SimOutput, PngRoundTrip) {
     std::string bad = png;
     bad[40] ^= 1;
     EXPECT_THROW(decode_png(bad), frnn::error);
+}
+
+// A frame is mostly background: compressed, it takes a small part of its raw size.
+TEST(SimOutput, PngCompressesAFlatFrame) {
+    image img;
+    img.width = 960;
+    img.height = 540;
+    img.rgb.assign(std::size_t(img.width) * std::size_t(img.height) * 3, 30);
+    for (std::size_t i = 0; i < img.rgb.size(); i += 3001) img.rgb[i] = 200;  // a few specks
+    const std::string png = encode_png(img);
+    EXPECT_LT(png.size(), img.rgb.size() / 20);
+    EXPECT_EQ(decode_png(png).rgb, img.rgb);
 }
 
 TEST(SimOutput, RunWritesFramesSeriesSummaryAndPictures) {

@@ -29,9 +29,9 @@ struct image {
 /// Sphere colliders are drawn as grey balls and box colliders by their edges, posed at time t.
 image render(const particle_view& p, const scene& s, double particle_radius, int width = 960, int height = 540,
              double max_speed = 0, double t = 0);
-/// PNG encoding with stored (uncompressed) deflate blocks: no zlib needed.
+/// PNG encoding: 8-bit RGB, the image data compressed by zlib.
 std::string encode_png(const image& img);
-/// Decodes the PNGs encode_png writes (stored blocks only), for tests.
+/// Decodes 8-bit RGB PNGs without row filters (those encode_png writes), for tests.
 image decode_png(const std::string& data);
 
 }  // namespace frnn::sim
