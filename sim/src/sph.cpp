@@ -1,7 +1,15 @@
-// Weakly compressible SPH: density by summation (plus the walls' share, from the kernel's
-// half-space integral), Tait or linear equation of state, symmetric pressure force and
-// Monaghan's artificial viscosity with the cubic spline kernel, symplectic Euler or leapfrog
-// (kick-drift-kick) with a CFL time step.
+// Weakly compressible SPH (Monaghan, "Simulating free surface flows with SPH", J. Comput.
+// Phys. 110, 1994; and "Smoothed particle hydrodynamics", Rep. Prog. Phys. 68, 2005):
+// - density by summation, rho_i = sum_j m W(r_ij) (plus the walls' share, from the kernel's
+//   half-space integral), with the cubic spline kernel of Monaghan and Lattanzio (1985);
+// - Tait's equation of state P = rho0 c0^2 / gamma ((rho / rho0)^gamma - 1) (Monaghan 1994,
+//   with c0 ten times the largest free-fall speed, so density varies about 1%), or the linear
+//   P = c0^2 (rho - rho0);
+// - the symmetric momentum equation a_i = -sum_j m (P_i / rho_i^2 + P_j / rho_j^2 + Pi_ij)
+//   grad_i W, with Monaghan's artificial viscosity Pi_ij = -alpha c0 mu_ij / rho_bar_ij for
+//   approaching pairs, mu_ij = h v_ij . x_ij / (r_ij^2 + 0.01 h^2);
+// - symplectic Euler or leapfrog (kick-drift-kick), with a time step from the CFL condition
+//   on c0 plus the flow speed and from the force condition 0.25 sqrt(h / |a|).
 #include <cmath>
 #include <memory>
 

@@ -1,6 +1,10 @@
-// The viscoelastic fluid of Clavet, Beaudoin and Poulin (SCA 2005), made deterministic and
-// lock-free: every pairwise update of the paper (applied to i and j in turn) is gathered by
-// each particle from its own neighbor list into a separate buffer (Jacobi style).
+// The viscoelastic fluid of Clavet, Beaudoin and Poulin, "Particle-based Viscoelastic Fluid
+// Simulation" (SCA 2005), made deterministic and lock-free: every pairwise update of the paper
+// (applied to i and j in turn) is gathered by each particle from its own neighbor list into a
+// separate buffer (Jacobi style), so each pair gives each side half of the paper's update.
+// The paper's algorithms, where they are here: 1 the step (step), 2 double density relaxation
+// (relax), 3 and 4 spring adjustment and displacements (springs), 5 viscosity impulses
+// (viscosity). q = r_ij / h throughout.
 #include <cmath>
 #include <memory>
 
@@ -38,8 +42,10 @@ public:
         const double step_dt = time_step();
         const float dt = float(step_dt);
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
-        // Gravity, then predicted positions; the grid is built on the prediction, so the
-        // relaxation sees the neighbors of the positions it corrects.
+        // Algorithm 1, with the viscosity after the prediction (it corrects the predicted
+        // positions from its new velocities). Gravity, then predicted positions; the grid is
+        // built on the prediction, so the relaxation sees the neighbors of the positions it
+        // corrects. Velocities from the displacement, (x - x_prev) / dt, then collisions.
         parallel_for(n_, threads_, prof, stage::integration, [&](std::size_t i) {
             for (int a = 0; a < D; ++a) {
                 const std::size_t k = i * D + a;
@@ -133,7 +139,9 @@ private:
         }
     }
 
-    /// Linear (sigma) and quadratic (beta) impulses on the approaching radial velocity.
+    /// Algorithm 5: for each approaching pair (u = (v_i - v_j) . r_hat > 0) the impulse
+    /// I = dt (1 - q) (sigma u + beta u^2) r_hat, half to each side: linear (sigma) and
+    /// quadratic (beta) viscosity.
     void viscosity(profiler& prof, float dt) {
         const float sigma = float(prm_.sigma), beta = float(prm_.beta);
         parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
@@ -155,7 +163,10 @@ private:
         }, min_parallel_light);
     }
 
-    /// Springs between neighbors with plastic rest lengths; each particle keeps its own copy
+    /// Algorithms 3 and 4: springs between neighbors closer than h, rest length L; beyond the
+    /// tolerable deformation d = gamma L, L moves toward r_ij at rate alpha (plasticity), and
+    /// springs longer than h break. Displacement dt^2 k (1 - L/h) (L - r_ij) r_hat, half to
+    /// each side (the scene's spring_stiffness holds dt^2 k). Each particle keeps its own copy
     /// of each spring and updates it from the same symmetric distance as its partner does.
     void springs(profiler& prof, float dt) {
         const float h = float(h_), gamma = float(prm_.yield_ratio), alpha = float(prm_.plasticity);
@@ -197,7 +208,12 @@ private:
         x_.swap(buf_);
     }
 
-    /// Double density relaxation: density and near density, then the displacements.
+    /// Algorithm 2: density rho = sum (1 - q)^2 and near density sum (1 - q)^3, pressure
+    /// P = k (rho - rho0) and near pressure k_near rho_near, then the displacement
+    /// D = dt^2 (P (1 - q) + P_near (1 - q)^2) r_hat, half to each side. Here the pressures are
+    /// dimensionless, divided by rho0, and a displacement is in units of h in place of dt^2
+    /// (the scene's stiffnesses absorb the scale): each side moves by
+    /// h/2 ((P_i + P_j)(1 - q) + (N_i + N_j)(1 - q)^2) r_hat, N the near pressures.
     void relax(profiler& prof) {
         const float h = float(h_), rho0 = float(rho0_);
         const float k = float(prm_.stiffness), kn = float(prm_.near_stiffness);
