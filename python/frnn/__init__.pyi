@@ -71,6 +71,12 @@ class Grid:
     ) -> npt.NDArray[np.int64]: ...
     def query_knn(self, k: int, x: Optional[npt.ArrayLike] = None) -> _CSRDist:
         """At most k nearest neighbors within radius, rows sorted by distance then index."""
+    def cell_of(self, x: npt.ArrayLike) -> Tuple[int, ...]:
+        """The integer coordinates of the cell of point x."""
+    def cells_within(self, x: npt.ArrayLike) -> Tuple[Tuple[int, ...], Tuple[int, ...]]:
+        """(first, last): the block of cells a query at x visits."""
+    def cell_bounds(self, cell: Sequence[int]) -> Tuple[Tuple[float, ...], Tuple[float, ...]]:
+        """Lower and upper corner of a cell, in the points' units."""
     def update(self, points: npt.ArrayLike) -> None:
         """Rebuild over new positions with the same radius and options."""
     def reorder(self, array: npt.ArrayLike) -> np.ndarray:

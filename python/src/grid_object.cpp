@@ -16,14 +16,6 @@ namespace frnn::python {
 
 namespace {
 
-template <class G>
-struct grid_traits;
-template <class T, int D>
-struct grid_traits<grid<T, D>> {
-    using type = T;
-    static constexpr int dim = D;
-};
-
 /// The four precision x dimension cases as a value, for a run-time dispatch.
 template <class T, int D>
 struct case_tag {

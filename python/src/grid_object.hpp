@@ -22,6 +22,15 @@ namespace frnn::python {
 
 namespace py = pybind11;
 
+/// The coordinate type and dimension of a grid type.
+template <class G>
+struct grid_traits;
+template <class T, int D>
+struct grid_traits<grid<T, D>> {
+    using type = T;
+    static constexpr int dim = D;
+};
+
 /// Keyword options of frnn.Grid, as Python gave them.
 struct grid_args {
     std::string grid = "auto";
@@ -44,6 +53,10 @@ public:
     py::array reorder(const py::object& array) const;
     py::array restore_order(const py::object& array) const;
     py::array permutation() const;
+    // The cells (grid_cells.cpp), in the caller's units.
+    py::tuple cell_of(const py::object& x) const;
+    py::tuple cells_within(const py::object& x) const;
+    py::tuple cell_bounds(const py::object& cell) const;
 
     std::size_t size() const;
     double radius() const;

@@ -135,6 +135,26 @@ offsets, indices, distances : CSR arrays as in neighbors()
     b = numpy.nextafter(r, inf) it finds the same ones, padded with inf (docs/PYTHON.md).
 )";
 
+constexpr const char* cell_of_doc = R"(The cell of point x: its integer coordinates, one per axis.
+
+On a uniform grid points beyond its domain share its border cells; in a periodic box x is
+wrapped into the box first. Cell (0, 0[, 0]) starts at the grid's origin (cell_bounds).
+)";
+
+constexpr const char* cells_within_doc = R"(The cells a query at x visits, as (first, last).
+
+Every cell whose coordinates lie in [first[a], last[a]] on each axis a: the cell of x and
+the grid's reach (1 at the default cell size) on each side, within a uniform grid's cells.
+Every point within the radius of x lies in one of them. In a periodic box the coordinates
+may leave the box's range: such a cell is the one at the coordinate modulo the cells per
+axis, in the neighboring image of the box.
+)";
+
+constexpr const char* cell_bounds_doc = R"(Lower and upper corner of a cell, in the points' units.
+
+The border cells of a uniform grid also hold the points beyond it.
+)";
+
 constexpr const char* update_doc = R"(Rebuild over new positions (the next time step).
 
 The radius and options stay; the number of points may change. ``points`` must have the
@@ -184,6 +204,9 @@ PYBIND11_MODULE(_frnn, m) {
              py::arg("sort") = "index", py::arg("return_length") = false)
         .def("query_knn", &grid_object::query_knn, knn_doc, py::arg("k"),
              py::arg("x") = py::none())
+        .def("cell_of", &grid_object::cell_of, cell_of_doc, py::arg("x"))
+        .def("cells_within", &grid_object::cells_within, cells_within_doc, py::arg("x"))
+        .def("cell_bounds", &grid_object::cell_bounds, cell_bounds_doc, py::arg("cell"))
         .def("update", &grid_object::update, update_doc, py::arg("points"))
         .def("reorder", &grid_object::reorder, reorder_doc, py::arg("array"))
         .def("restore_order", &grid_object::restore_order, restore_doc, py::arg("array"))
