@@ -1,5 +1,6 @@
 // The run loop: steps, frames, front record, checkpoints, progress, timing table, summary.
 #include "frnn/sim/run.hpp"
+#include "frnn/sim/video.hpp"
 
 #include <unistd.h>
 
@@ -83,20 +84,15 @@ private:
     std::uint64_t first_step_ = 0;
 };
 
+// --video: particles.mp4 from the PNG frames, or a message when ffmpeg is missing (the run
+// itself has succeeded; its frames stay).
 void make_video(const std::string& dir, double fps) {
-    if (dir.find('\'') != std::string::npos) throw error("--video: the output path must not contain a quote");
-    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+    if (!ffmpeg_available()) {
         std::fprintf(stderr, "frnn sim: --video: ffmpeg is not installed (apt-get install ffmpeg); the PNG frames are in %s/png\n",
                      dir.c_str());
         return;
     }
-    char cmd[2048];
-    std::snprintf(cmd, sizeof cmd,
-                  "ffmpeg -y -loglevel error -framerate %.3f -i '%s/png/frame_%%05d.png' -vf "
-                  "'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p '%s/particles.mp4.tmp.mp4' && mv "
-                  "'%s/particles.mp4.tmp.mp4' '%s/particles.mp4'",
-                  fps, dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
-    if (std::system(cmd) != 0) throw error("ffmpeg failed to make " + dir + "/particles.mp4");
+    encode_video(dir + "/png", fps, dir + "/particles.mp4");
     std::fprintf(stderr, "video: %s/particles.mp4\n", dir.c_str());
 }
 
