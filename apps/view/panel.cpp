@@ -203,6 +203,9 @@ void viewer::draw_panel() {
     if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
 
     ImGui::Separator();
+    draw_scene_keys();
+
+    ImGui::Separator();
     ImGui::TextDisabled("parameters (* restarts the scene)");
     draw_parameters();
     ImGui::End();

@@ -64,11 +64,15 @@ script_action read_action(const json& j, const std::string& where) {
     if (!f.is_number_integer() || f.get<std::int64_t>() < 0) r.fail("key 'frame': expected an integer >= 0, got " + f.dump());
     a.frame = f.get<std::int64_t>();
     a.what = r.text("do");
+    a.where = where;
     const std::string& w = a.what;
     if (w == "play" || w == "pause" || w == "step" || w == "reset" || w == "reset_view") {
     } else if (w == "set") {
         a.name = r.text("name");
         a.value = r.number("value");
+    } else if (w == "set_scene") {
+        a.name = r.text("key");
+        a.value_json = r.need("value").dump();
     } else if (w == "gravity") {
         a.vec = r.numbers<3>("value");
     } else if (w == "time_scale") {

@@ -3,6 +3,8 @@
 // viewer runs in lockstep, exactly S steps per drawn frame while playing. Actions:
 //   play, pause, step, reset, reset_view                     the panel's buttons and keys
 //   set {"name": "sph.alpha", "value": 0.2}                  a parameter of the table
+//   set_scene {"key": "colliders[0].center", "value": [x, y, z]}   any scene key by its path,
+//                                                            as the panel's Scene section sets it
 //   gravity {"value": [x, y, z]}, time_scale {"value": s}
 //   color {"field": "speed", "range": [lo, hi]}             fixed range; without "range": auto
 //   camera {"target": [x,y,z], "distance": d, "yaw": deg, "pitch": deg, "fov": deg}
@@ -25,7 +27,9 @@ namespace frnn::view {
 struct script_action {
     std::int64_t frame = 0;
     std::string what;  ///< "play", "set", ...
-    std::string name, text;  ///< set: the parameter; key: the key; button: its label; color: the field; save_scene: the path
+    std::string where;  ///< "FILE: actions[i]", for messages
+    std::string name, text;  ///< set: the parameter; set_scene: the key path; key: the key; button: its label; color: the field; save_scene: the path
+    std::string value_json;  ///< set_scene: the value as JSON text
     double value = 0;
     std::array<double, 3> vec{0, 0, 0};  ///< gravity, camera target, click/scroll position (x, y)
     std::array<double, 2> to{0, 0};      ///< drag end

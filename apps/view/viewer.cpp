@@ -157,7 +157,11 @@ void viewer::step() {
     runner_->step_once();
 }
 
-void viewer::reset() { runner_->reset(); }
+// The scene as edited in the panel, reseeded: keys that wait for Reset take effect.
+void viewer::reset() {
+    runner_->set_scene(scene_);
+    reset_pending_ = false;
+}
 
 void viewer::switch_scene(sim::scene next) {
     runner_->set_scene(next);
@@ -166,18 +170,24 @@ void viewer::switch_scene(sim::scene next) {
 
 void viewer::adopt_scene(sim::scene next) {
     scene_ = std::move(next);
-    chosen_solver_ = scene_.solver == sim::solver_kind::sph ? 1 : 0;
-    chosen_dim_ = scene_.dim;
-    chosen_particles_ = int(scene_.target_particles());
-    for (int a = 0; a < 3; ++a) gravity_[std::size_t(a)] = float(scene_.gravity[std::size_t(a)]);
+    reset_pending_ = false;
+    show_scene_choices();
     cam_.frame({float(scene_.domain_min[0]), float(scene_.domain_min[1]), float(scene_.domain_min[2])},
                {float(scene_.domain_max[0]), float(scene_.domain_max[1]), float(scene_.domain_max[2])}, scene_.dim == 2);
     scene_changed_ = true;
 }
 
+void viewer::show_scene_choices() {
+    chosen_solver_ = scene_.solver == sim::solver_kind::sph ? 1 : 0;
+    chosen_dim_ = scene_.dim;
+    chosen_particles_ = int(scene_.target_particles());
+    for (int a = 0; a < 3; ++a) gravity_[std::size_t(a)] = float(scene_.gravity[std::size_t(a)]);
+}
+
+// The scene as edited, keys waiting for Reset included.
 void viewer::save_scene(const std::string& path) {
     try {
-        io::write_file_atomically(path, sim::scene_to_json(runner_->scene_copy()));
+        io::write_file_atomically(path, sim::scene_to_json(scene_));
         message_ = "saved " + path;
     } catch (const std::exception& e) {
         message_ = e.what();
@@ -217,6 +227,12 @@ void viewer::apply(const script_action& a) {
         }
         p->set(scene_, a.value);
         runner_->set_parameter(*p, a.value);
+    } else if (w == "set_scene") {
+        try {
+            set_scene_key(a.name, a.value_json);
+        } catch (const error& e) {
+            throw error(a.where + " (frame " + std::to_string(a.frame) + "): set_scene " + a.name + " = " + a.value_json + ": " + e.what());
+        }
     } else if (w == "gravity") {
         gravity_ = {float(a.vec[0]), float(a.vec[1]), float(a.vec[2])};
         scene_.gravity = a.vec;
@@ -326,7 +342,7 @@ void viewer::refresh_particles() {
         }
         particles_->upload(snapshot_.x, values_);
         if (snapshot_.time != lines_time_ || scene_changed_) {
-            lines_->upload(scene_lines(runner_->scene_copy(), snapshot_.time));
+            lines_->upload(scene_lines(scene_, snapshot_.time));  // as edited: what Reset will run
             lines_time_ = snapshot_.time;
         }
         scene_changed_ = false;

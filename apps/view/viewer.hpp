@@ -62,12 +62,20 @@ private:
     /// A ring around the picked particle.
     void draw_pick_marker();
     void draw_parameters();
+    /// The Scene section: a control for every key of the scene's JSON with no control elsewhere.
+    void draw_scene_keys();
+    /// Sets a scene key by its path (sim::with_scene_key) for the panel and `set_scene` scripts:
+    /// solver parameters and gravity reach the running simulation as their own controls send
+    /// them, every other key waits for Reset. Throws frnn::error when the key or value is bad.
+    void set_scene_key(const std::string& path, const std::string& value_json);
     void write_state(const std::string& path) const;
     void save_screenshot(const std::string& path) const;
     void save_scene(const std::string& path);
     void switch_scene(sim::scene next);
     /// Shows `next` in the panel and frames it (the simulation thread already has it).
     void adopt_scene(sim::scene next);
+    /// The Apply-scene choices and the gravity control show scene_.
+    void show_scene_choices();
     void save_state(const std::string& path);
     void load_state(const std::string& path);
     void toggle_play();
@@ -84,8 +92,10 @@ private:
     std::size_t next_action_ = 0;
     long frame_ = 0;
 
-    // What the panel shows and edits; the simulation thread follows by commands.
+    // What the panel shows and edits; the simulation thread follows by commands, and takes the
+    // keys that wait for Reset (reset_pending_) when it restarts.
     sim::scene scene_;
+    bool reset_pending_ = false;
     std::string scene_label_;
     int chosen_scene_ = 0, chosen_solver_ = 0, chosen_dim_ = 3, chosen_particles_ = 0;
     bool playing_ = true;  // lockstep play state (decoupled: the runner's)

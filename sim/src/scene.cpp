@@ -125,9 +125,9 @@ motion read_motion(reader& r) {
 
 collider read_collider(reader& r) {
     collider c;
-    const std::string type = r.choice("type", "", {"plane", "sphere", "box"});
+    const std::string type = r.choice("type", "", collider_types());
     c.name = r.string("name", type);
-    c.kind = type == "plane" ? shape::plane : type == "sphere" ? shape::sphere : shape::box;
+    c.kind = shape(std::find(collider_types().begin(), collider_types().end(), type) - collider_types().begin());
     c.inside = r.boolean("inside", false);
     if (c.inside && c.kind == shape::plane) r.fail(r.key("inside"), "a plane has no inside; use its normal");
     c.center = r.vector(c.kind == shape::plane ? "point" : "center", c.center);
@@ -156,8 +156,8 @@ collider read_collider(reader& r) {
 
 fluid_block read_block(reader& r) {
     fluid_block b;
-    const std::string type = r.choice("type", "box", {"box", "sphere"});
-    b.kind = type == "box" ? fluid_block::kind_t::box : fluid_block::kind_t::sphere;
+    const std::string type = r.choice("type", "box", fluid_block_types());
+    b.kind = fluid_block::kind_t(std::find(fluid_block_types().begin(), fluid_block_types().end(), type) - fluid_block_types().begin());
     if (b.kind == fluid_block::kind_t::box) {
         b.min = r.vector("min", b.min);
         b.max = r.vector("max", b.max);
@@ -191,7 +191,20 @@ void read_parameters(reader& r, const std::string& section, scene& s) {
 
 }  // namespace
 
-std::string to_string(solver_kind k) { return k == solver_kind::sph ? "sph" : "viscoelastic"; }
+std::string to_string(solver_kind k) { return solver_names()[std::size_t(k)]; }
+
+const std::vector<std::string>& solver_names() {
+    static const std::vector<std::string> names{"viscoelastic", "sph"};
+    return names;
+}
+const std::vector<std::string>& fluid_block_types() {
+    static const std::vector<std::string> names{"box", "sphere"};
+    return names;
+}
+const std::vector<std::string>& collider_types() {
+    static const std::vector<std::string> names{"plane", "sphere", "box"};
+    return names;
+}
 
 scene parse_scene(const std::string& text, const std::string& origin) {
     json j;
@@ -204,7 +217,8 @@ scene parse_scene(const std::string& text, const std::string& origin) {
     scene s;
     s.name = r.string("name", "scene");
     s.description = r.string("description", "");
-    s.solver = r.choice("solver", "viscoelastic", {"viscoelastic", "sph"}) == "sph" ? solver_kind::sph : solver_kind::viscoelastic;
+    const std::string solver = r.choice("solver", "viscoelastic", solver_names());
+    s.solver = solver_kind(std::find(solver_names().begin(), solver_names().end(), solver) - solver_names().begin());
     s.dim = int(r.integer("dim", 3, 2, 3));
     if (r.has("particles")) {
         const json& p = r.at("particles");

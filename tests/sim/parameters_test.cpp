@@ -1,6 +1,7 @@
 // The parameter table: it covers every solver key of the shipped scenes, the parser and the
 // writer go through it, and every parameter at either end of its panel range keeps 100 steps
-// finite.
+// finite; so do the colliders' coefficients at either end of the range the parser accepts (the
+// viewer's Scene section offers any value the parser accepts).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 
 #include "frnn/error.hpp"
 #include "frnn/sim/parameters.hpp"
+#include "frnn/sim/scene_keys.hpp"
 #include "frnn/sim/simulation.hpp"
 #include "small_scene.hpp"
 
@@ -114,4 +116,32 @@ TEST(SimParameters, EveryParameterAtEachEndOfItsRangeStaysFinite) {
             }
         }
     }
+}
+
+// The bounded scene keys that act on the particles: restitution in [0, 1] and friction in
+// [0, 10], on every collider of the elastoplastic block's scene at once, both solvers.
+TEST(SimParameters, ColliderCoefficientsAtEachEndOfTheirRangeStayFinite) {
+    const struct {
+        const char* key;
+        double lo, hi;
+    } keys[] = {{"restitution", 0, 1}, {"friction", 0, 10}};
+    for (const auto& k : keys)
+        for (const solver_kind solver : {solver_kind::viscoelastic, solver_kind::sph})
+            for (int dim : {2, 3})
+                for (double value : {k.lo, k.hi}) {
+                    scene s = frnn::test::small_scene("block-drop", solver, dim, 300);
+                    for (std::size_t c = 0; c < s.colliders.size(); ++c)
+                        s = with_scene_key(s, "colliders[" + std::to_string(c) + "]." + k.key, std::to_string(value), "t");
+                    const std::string what = to_string(solver) + " " + std::to_string(dim) + "D, " + k.key + " = " + std::to_string(value);
+                    simulation sim(s, 1);
+                    try {
+                        for (int step = 0; step < 100; ++step) sim.step();
+                    } catch (const frnn::error& e) {
+                        ADD_FAILURE() << what << ": " << e.what();
+                        continue;
+                    }
+                    particle_snapshot snap;
+                    sim.snapshot(snap);
+                    EXPECT_TRUE(all_finite(snap)) << what;
+                }
 }

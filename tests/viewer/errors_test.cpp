@@ -48,6 +48,24 @@ TEST(ViewerErrors, BadScriptNamesTheAction) {
     EXPECT_NE(g.err.find("script.json: frame 1: parameter sph.gamma: expected a number in [1, 10], got 40"), std::string::npos) << g.err;
 }
 
+TEST(ViewerErrors, BadSceneKeyNamesTheActionKeyAndValue) {
+    const scratch_dir dir("viewer_bad_scene_key");
+    // The script's actions fail with one line holding `message`, and exit code 1.
+    const auto fails = [&](const std::string& actions, const std::string& message) {
+        write_text(dir / "script.json", R"({"actions": [)" + actions + "]}");
+        const auto r = run_viewer(dir, "--scene droplet --dim 2 --particles 200 --paused --script script.json --frames 3");
+        EXPECT_EQ(r.code, 1);
+        EXPECT_EQ(lines(r.err), 1) << r.err;
+        EXPECT_NE(r.err.find("frnn-view: error: script.json: " + message), std::string::npos) << r.err;
+    };
+    fails(R"({"frame": 1, "do": "play"}, {"frame": 2, "do": "set_scene", "key": "domain.maximum", "value": [2, 1, 1]})",
+          "actions[1] (frame 2): set_scene domain.maximum = [2,1,1]: scene 'droplet': no key 'domain.maximum' in the scene");
+    fails(R"({"frame": 1, "do": "set_scene", "key": "colliders[0].half", "value": [0.5, -1, 0.5]})",
+          "actions[0] (frame 1): set_scene colliders[0].half = [0.5,-1,0.5]: scene 'droplet': key 'colliders[0].half': "
+          "expected positive half extents");
+    fails(R"({"frame": 1, "do": "set_scene", "key": "duration"})", "actions[0]: missing key 'value'");
+}
+
 TEST(ViewerErrors, FrnnViewWithoutTheViewerSaysWhatItNeeds) {
     const scratch_dir dir("viewer_not_built");
     // The frnn tool alone in a folder: no frnn-view beside it.

@@ -27,9 +27,7 @@ TEST(ViewerSceneFile, SavedSceneRunsInFrnnSim) {
 
 TEST(ViewerSceneFile, FrnnViewRunsTheViewer) {
     const scratch_dir dir("viewer_via_frnn");
-    const int server = 100 + int(::getpid() % 800);
-    const auto r = run_in(dir, "'" FRNN_XVFB_RUN "' -a -n " + std::to_string(server) + " -s '-screen 0 1280x1024x24' '" FRNN_TOOL_PATH
-                               "' view --scene droplet --dim 2 --particles 200 --frames 3 --state s.json");
+    const auto r = run_in(dir, on_virtual_screen() + "'" FRNN_TOOL_PATH "' view --scene droplet --dim 2 --particles 200 --frames 3 --state s.json");
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(read_json(dir / "s.json").at("scene"), "droplet");
 }

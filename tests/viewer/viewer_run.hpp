@@ -32,12 +32,17 @@ inline run_result run_in(const scratch_dir& dir, const std::string& command) {
                                 command);
 }
 
-/// frnn-view with `args` on a virtual screen of its own (a server number per process, so
-/// tests run in parallel).
-inline run_result run_viewer(const scratch_dir& dir, const std::string& args) {
+/// The start of a command run on a virtual screen of its own (a server number per process, so
+/// tests run in parallel). The X authority file is kept in the test's folder (-f): the folder
+/// xvfb-run makes for it otherwise fails to be removed about one run in 30 (exit code 5).
+inline std::string on_virtual_screen() {
     const int server = 100 + int(::getpid() % 800);
-    return run_in(dir, "'" FRNN_XVFB_RUN "' -a -n " + std::to_string(server) + " -s '-screen 0 1280x1024x24' '" FRNN_VIEW_PATH
-                           "' --width 960 --height 600 " + args);
+    return "'" FRNN_XVFB_RUN "' -a -n " + std::to_string(server) + " -f .xauthority -s '-screen 0 1280x1024x24' ";
+}
+
+/// frnn-view with `args` on a virtual screen.
+inline run_result run_viewer(const scratch_dir& dir, const std::string& args) {
+    return run_in(dir, on_virtual_screen() + "'" FRNN_VIEW_PATH "' --width 960 --height 600 " + args);
 }
 
 inline run_result run_tool(const scratch_dir& dir, const std::string& args) {

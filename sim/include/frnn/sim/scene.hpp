@@ -19,6 +19,12 @@ namespace frnn::sim {
 enum class solver_kind { viscoelastic, sph };
 std::string to_string(solver_kind k);
 
+/// The names scene files give solvers, fluid block types and collider types, in the order of
+/// their enums (solver_kind, fluid_block::kind_t, shape); the parser accepts these and no other.
+const std::vector<std::string>& solver_names();
+const std::vector<std::string>& fluid_block_types();
+const std::vector<std::string>& collider_types();
+
 /// A region filled with particles on a lattice of the scene's spacing.
 struct fluid_block {
     enum class kind_t { box, sphere } kind = kind_t::box;
