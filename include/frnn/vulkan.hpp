@@ -177,9 +177,10 @@ public:
     std::size_t slot_count() const;   ///< slots of the cell index: cells (uniform) or table size (hashed)
     /// Where the cells are (frnn/grid_geometry.hpp), chosen by the CPU grid's rules with cells
     /// as wide as asked (no margin). The device locates points in float, so a point within
-    /// about 2^-20 of a cell face may sit in the cell beside the one cell_of() gives; it visits
-    /// the cells that [x - r, x + r] touches, within cells_within(x). Its hashed table numbers
-    /// slots with grid.glsl's own hash, not slot_of_cell().
+    /// float rounding of a cell face (about 2^-23 of its cell coordinate) may sit in the cell
+    /// beside the one cell_of() gives; it visits the cells that [x - r, x + r] touches, within
+    /// cells_within(x). Its hashed table numbers slots with grid.glsl's own hash, not
+    /// slot_of_cell().
     const grid_geometry<float>& geometry() const;
 
     /// sorted_to_original()[s]: the caller's index of the s-th point in cell order.
