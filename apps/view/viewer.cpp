@@ -102,6 +102,7 @@ viewer::viewer(const sim::scene& s, const view_options& o) : opt_(o), scene_(s) 
 
     particles_ = std::make_unique<particle_renderer>();
     lines_ = std::make_unique<line_renderer>();
+    search_lines_ = std::make_unique<line_renderer>();
 
     const auto names = sim::builtin_scene_names();
     chosen_scene_ = int(std::find(names.begin(), names.end(), scene_.name) - names.begin());
@@ -116,6 +117,7 @@ viewer::~viewer() {
     runner_.reset();  // stop the simulation thread first
     particles_.reset();
     lines_.reset();
+    search_lines_.reset();
     if (window_) {
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
@@ -138,6 +140,7 @@ void viewer::on_key(int key) {
     case GLFW_KEY_S: step(); break;
     case GLFW_KEY_R: reset(); break;
     case GLFW_KEY_C: cam_.reset(); break;
+    case GLFW_KEY_G: show_cell_grid_ = !show_cell_grid_, search_stale_ = true; break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
     default: break;
@@ -322,6 +325,7 @@ void viewer::move_camera(const pointer_state& now) {
             int w = 0, h = 0;
             glfwGetFramebufferSize(window_, &w, &h);
             picked_ = pick_particle(snapshot_, float(0.5 * snapshot_.spacing), cam_, scene_viewport(), h, now.x, now.y);
+            search_stale_ = true;
         }
         drag_button_ = -1;
     }
@@ -341,6 +345,7 @@ void viewer::refresh_particles() {
             shown_min_ = *lo, shown_max_ = *hi;
         }
         particles_->upload(snapshot_.x, values_);
+        search_stale_ = true;
         if (snapshot_.time != lines_time_ || scene_changed_) {
             lines_->upload(scene_lines(scene_, snapshot_.time));  // as edited: what Reset will run
             lines_time_ = snapshot_.time;
@@ -372,6 +377,7 @@ void viewer::draw_scene() {
     lines_->draw(multiply(projection, view));
     particles_->draw(view, projection, float(0.5 * snapshot_.spacing), shown_min_, shown_max_);
     glDisable(GL_DEPTH_TEST);
+    search_lines_->draw(multiply(projection, view));  // over the particles: the cells hold them
     glViewport(0, 0, w, h);
 }
 
@@ -397,6 +403,7 @@ void viewer::frame() {
     const pointer_state pointer = read_pointer();
     ImGui::NewFrame();
     move_camera(pointer);
+    refresh_search(pointer);
     draw_panel();
     draw_legend();
     draw_pick_marker();

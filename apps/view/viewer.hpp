@@ -14,6 +14,7 @@
 #include "field.hpp"
 #include "options.hpp"
 #include "script.hpp"
+#include "search_view.hpp"
 #include "sim_runner.hpp"
 
 struct GLFWwindow;
@@ -59,8 +60,11 @@ private:
     std::array<int, 4> scene_viewport() const;
     void draw_panel();
     void draw_legend();
-    /// A ring around the picked particle.
+    /// A ring around the picked particle and smaller ones around its neighbors.
     void draw_pick_marker();
+    /// The picked particle's search and the cell grid block (toggle) for this frame's pointer,
+    /// recomputed when the snapshot, the pick or the particle under the pointer changes.
+    void refresh_search(const pointer_state& now);
     void draw_parameters();
     /// The Scene section: a control for every key of the scene's JSON with no control elsewhere.
     void draw_scene_keys();
@@ -118,6 +122,16 @@ private:
     int drag_button_ = -1;
     pointer_state press_;  // where the camera's drag began: a release there is a click (picks)
     std::optional<std::size_t> picked_;  // particle id
+
+    // The search made visible (search_view.hpp): the picked particle's cells and neighbors, and
+    // with the cell grid toggle the block of cells a search visits around the particle under
+    // the pointer (the picked one when the pointer is on none).
+    std::unique_ptr<line_renderer> search_lines_;
+    bool show_cell_grid_ = false;
+    particle_search search_;
+    std::vector<cell_index> grid_cells_;
+    std::optional<std::size_t> grid_center_;
+    bool search_stale_ = true;
     double scroll_ = 0;
     std::map<std::string, std::array<float, 4>> buttons_;  // panel button rects by label
     std::array<float, 4> legend_rect_{0, 0, 0, 0};

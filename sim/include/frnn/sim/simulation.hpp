@@ -30,6 +30,8 @@ struct particle_snapshot {
     std::vector<float> x;  ///< n * 3; z = 0 in 2D
     std::vector<float> speed, density, pressure;
     std::vector<std::uint32_t> neighbors;  ///< in the last step's lists
+    double radius = 0;                     ///< the solver's neighbor (kernel support) radius
+    grid_geometry<float> geometry;         ///< the last step's grid (solver::geometry())
 };
 
 class simulation {
