@@ -189,6 +189,9 @@ void viewer::draw_panel() {
     if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
 
     ImGui::Separator();
+    draw_profile();
+
+    ImGui::Separator();
     draw_scene_keys();
 
     ImGui::Separator();

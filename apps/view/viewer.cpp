@@ -198,6 +198,11 @@ void viewer::save_scene(const std::string& path) {
     }
 }
 
+void viewer::capture_profile(int steps, const std::string& path) {
+    runner_->capture_profile(steps, path);
+    message_.clear();
+}
+
 void viewer::save_state(const std::string& path) {
     runner_->save_checkpoint(path);
     message_ = "saving the state to " + path;
@@ -273,6 +278,8 @@ void viewer::apply(const script_action& a) {
         p.down[0] = false;
         pointer_events_.insert(pointer_events_.begin() + 1, {frame_ + 1, p});
         std::stable_sort(pointer_events_.begin(), pointer_events_.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    } else if (w == "capture_profile") {
+        capture_profile(int(a.value), a.text);
     } else if (w == "save_scene") {
         save_scene(a.text);
     } else if (w == "save_state") {
@@ -413,8 +420,16 @@ void viewer::frame() {
     draw_scene();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (opt_.timing) glFinish();
-    draw_seconds_ += seconds_since(t_draw);
+    const double drawn = seconds_since(t_draw);
+    draw_seconds_ += drawn;
+    draw_ms_ = timed_frames_ == 0 ? 1e3 * drawn : 0.95 * draw_ms_ + 0.05 * 1e3 * drawn;
     ++timed_frames_;
+    const double window = seconds_since(rate_start_);
+    if (window >= 0.5) {
+        const std::uint64_t steps = runner_->started_steps();
+        steps_per_second_ = double(steps - rate_steps_) / window;
+        rate_steps_ = steps, rate_start_ = clock_type::now();
+    }
 
     // Frames drawn while one step runs (the decoupling test); a step's index tells them apart.
     const std::uint64_t started = runner_->started_steps();

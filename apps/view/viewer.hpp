@@ -4,6 +4,7 @@
 // runs its S steps in lockstep.
 #pragma once
 #include <array>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -66,6 +67,10 @@ private:
     /// recomputed when the snapshot, the pick or the particle under the pointer changes.
     void refresh_search(const pointer_state& now);
     void draw_parameters();
+    /// The Profile section: the live per-stage timing bar, steps and frames per second, and
+    /// "Capture profile".
+    void draw_profile();
+    void capture_profile(int steps, const std::string& path);
     /// The Scene section: a control for every key of the scene's JSON with no control elsewhere.
     void draw_scene_keys();
     /// Sets a scene key by its path (sim::with_scene_key) for the panel and `set_scene` scripts:
@@ -142,6 +147,14 @@ private:
     double upload_seconds_ = 0, draw_seconds_ = 0, wait_seconds_ = 0;
     long timed_frames_ = 0;
     std::string script_error_;
+
+    // Profiling: drawing time per frame (averaged like the stages'), steps per second over
+    // windows of half a second, the capture's steps and file.
+    double draw_ms_ = 0, steps_per_second_ = 0;
+    std::chrono::steady_clock::time_point rate_start_ = std::chrono::steady_clock::now();
+    std::uint64_t rate_steps_ = 0;
+    int profile_steps_ = 20;
+    std::string profile_path_ = "profile.json";
 };
 
 }  // namespace frnn::view

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
 
 #include "expect_error.hpp"
 #include "frnn/sim/run.hpp"
@@ -204,4 +207,29 @@ TEST(SimSimulation, SnapshotCarriesTheRadiusAndTheGridTheSearchUsed) {
         }
     }
     EXPECT_GT(pairs, snap.n);  // the droplet is dense: particles have neighbors
+}
+
+// The viewer's "capture profile": a tracing profiler set between steps traces the steps after
+// it, one span per stage per step, numbered by the step.
+TEST(SimSimulation, TracingProfilerSetBetweenStepsTracesTheStepsAfter) {
+    simulation sim(droplet_2d(), 1);
+    sim.step();
+    sim.set_profiler(profiler(true, 1));
+    for (int k = 0; k < 3; ++k) sim.step();
+    EXPECT_EQ(sim.timings().steps(), 3u);
+    const frnn::test::scratch_dir dir("sim_set_profiler");
+    sim.timings().write_trace((dir / "trace.json").string());
+    std::ifstream in(dir / "trace.json");
+    const auto trace = nlohmann::json::parse(in);
+    std::map<std::uint64_t, std::set<std::string>> stages;  // by step
+    for (const auto& e : trace.at("traceEvents"))
+        if (e.at("ph") == "X") stages[e.at("args").at("step").get<std::uint64_t>()].insert(e.at("name").get<std::string>());
+    ASSERT_EQ(stages.size(), 3u);
+    EXPECT_EQ(stages.begin()->first, 1u);  // the step before the profiler was set is not in it
+    for (const auto& [step, names] : stages) {
+        EXPECT_TRUE(names.count(to_string(stage::grid)) && names.count(to_string(stage::neighbors))) << step;
+        EXPECT_EQ(names, stages.begin()->second) << step;
+    }
+    sim.reset();
+    EXPECT_FALSE(sim.timings().tracing());
 }
