@@ -186,6 +186,15 @@ void viewer::draw_panel() {
     if (button("Save state")) save_state(state_path_);
     ImGui::SameLine();
     if (button("Load state")) load_state(state_path_);
+    std::snprintf(path, sizeof path, "%s", record_dir_.c_str());
+    if (ImGui::InputText("recording", path, sizeof path)) record_dir_ = path;
+    if (recorder_.recording()) {
+        if (button("Stop recording")) stop_recording();
+        ImGui::SameLine();
+        ImGui::Text("%zu frames", recorder_.frames());
+    } else if (button("Record")) {
+        start_recording(record_dir_);
+    }
     if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
 
     ImGui::Separator();

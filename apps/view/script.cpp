@@ -106,6 +106,9 @@ script_action read_action(const json& j, const std::string& where) {
         if (a.frames < 1) r.fail("key 'frames': expected at least 1");
     } else if (w == "button") {
         a.text = r.text("label");
+    } else if (w == "record") {
+        a.text = r.text("dir");
+    } else if (w == "stop_recording") {
     } else if (w == "capture_profile") {
         a.value = r.number("steps");
         if (a.value < 1 || a.value != std::floor(a.value)) r.fail("key 'steps': expected a whole number >= 1");

@@ -278,6 +278,10 @@ void viewer::apply(const script_action& a) {
         p.down[0] = false;
         pointer_events_.insert(pointer_events_.begin() + 1, {frame_ + 1, p});
         std::stable_sort(pointer_events_.begin(), pointer_events_.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    } else if (w == "record") {
+        start_recording(a.text);
+    } else if (w == "stop_recording") {
+        stop_recording();
     } else if (w == "capture_profile") {
         capture_profile(int(a.value), a.text);
     } else if (w == "save_scene") {
@@ -430,6 +434,7 @@ void viewer::frame() {
         steps_per_second_ = double(steps - rate_steps_) / window;
         rate_steps_ = steps, rate_start_ = clock_type::now();
     }
+    if (recorder_.recording()) record_frame();
 
     // Frames drawn while one step runs (the decoupling test); a step's index tells them apart.
     const std::uint64_t started = runner_->started_steps();
@@ -451,6 +456,7 @@ int viewer::run() {
         if (last || !script_error_.empty()) break;
     }
     runner_->set_playing(false);
+    if (recorder_.recording()) stop_recording();
     if (!opt_.state_file.empty()) write_state(opt_.state_file);
     if (opt_.timing && timed_frames_ > 0)
         std::printf("frnn-view: %zu particles, %ld frames: simulation %.2f ms/step, copy %.2f ms/snapshot, "
@@ -464,7 +470,7 @@ int viewer::run() {
     return 0;
 }
 
-void viewer::save_screenshot(const std::string& path) const {
+sim::image viewer::window_pixels() const {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
     sim::image img;
@@ -477,7 +483,41 @@ void viewer::save_screenshot(const std::string& path) const {
     const std::size_t stride = std::size_t(w) * 3;
     for (int y = 0; y < h; ++y)  // OpenGL's rows go bottom-up, the image's top-down
         std::copy_n(rows.data() + std::size_t(h - 1 - y) * stride, stride, img.rgb.data() + std::size_t(y) * stride);
-    io::write_file_atomically(path, sim::encode_png(img));
+    return img;
+}
+
+void viewer::save_screenshot(const std::string& path) const { io::write_file_atomically(path, sim::encode_png(window_pixels())); }
+
+void viewer::start_recording(const std::string& dir) {
+    try {
+        if (recorder_.recording()) stop_recording();
+        recorder_.start(dir);
+        message_ = "recording to " + dir;
+    } catch (const std::exception& e) {
+        message_ = e.what();
+        if (script_) script_error_ = e.what();
+    }
+}
+
+void viewer::stop_recording() {
+    if (!recorder_.recording()) return;
+    try {
+        message_ = "recorded " + recorder_.stop();
+    } catch (const std::exception& e) {
+        message_ = e.what();
+        if (script_) script_error_ = e.what();
+    }
+}
+
+// A frame that cannot be written ends the recording (a full disk must not fail every frame).
+void viewer::record_frame() {
+    try {
+        recorder_.add(window_pixels());
+    } catch (const std::exception& e) {
+        message_ = e.what();
+        if (script_) script_error_ = e.what();
+        stop_recording();
+    }
 }
 
 }  // namespace frnn::view

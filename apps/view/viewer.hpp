@@ -14,6 +14,7 @@
 #include "camera.hpp"
 #include "field.hpp"
 #include "options.hpp"
+#include "recorder.hpp"
 #include "script.hpp"
 #include "search_view.hpp"
 #include "sim_runner.hpp"
@@ -78,7 +79,13 @@ private:
     /// them, every other key waits for Reset. Throws frnn::error when the key or value is bad.
     void set_scene_key(const std::string& path, const std::string& value_json);
     void write_state(const std::string& path) const;
+    /// The window's pixels as drawn this frame (the back buffer), top row first.
+    sim::image window_pixels() const;
     void save_screenshot(const std::string& path) const;
+    /// Record: starts or stops recording (recorder.hpp); the outcome goes to the panel.
+    void start_recording(const std::string& dir);
+    void stop_recording();
+    void record_frame();
     void save_scene(const std::string& path);
     void switch_scene(sim::scene next);
     /// Shows `next` in the panel and frames it (the simulation thread already has it).
@@ -155,6 +162,9 @@ private:
     std::uint64_t rate_steps_ = 0;
     int profile_steps_ = 20;
     std::string profile_path_ = "profile.json";
+
+    recorder recorder_;
+    std::string record_dir_ = "recording";
 };
 
 }  // namespace frnn::view
