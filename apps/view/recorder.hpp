@@ -15,12 +15,13 @@ public:
     static constexpr double video_fps = 30;
 
     bool recording() const { return recording_; }
-    /// Starts a recording into `dir` (made if missing; PNGs of an earlier recording there are
-    /// overwritten). Throws frnn::error when the folder cannot be made.
+    /// Starts a recording into `dir` (made if missing; the frames of an earlier recording there
+    /// are replaced). Throws frnn::error when the folder cannot be made.
     void start(const std::string& dir);
     /// Writes the frame (throws frnn::error when it cannot).
     void add(const sim::image& frame);
-    /// Stops; with ffmpeg and at least one frame, encodes the MP4. Returns what was written.
+    /// Stops; removes the frames an earlier, longer recording left after this one's; with
+    /// ffmpeg and at least one frame, encodes the MP4. Returns what was written.
     std::string stop();
     std::size_t frames() const { return frames_; }
     const std::string& dir() const { return dir_; }

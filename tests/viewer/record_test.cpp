@@ -44,3 +44,19 @@ TEST(ViewerRecord, FramesAreTheWindowsPixelsCompressedAndMakeAnMp4) {
     EXPECT_EQ(stream.at("width"), 960);
     EXPECT_EQ(stream.at("height"), 600);
 }
+
+// A second, shorter recording into the same folder: its MP4 holds its own frames only.
+TEST(ViewerRecord, ShorterRecordingReplacesTheFramesOfALongerOne) {
+    const scratch_dir dir("viewer_record_again");
+    write_text(dir / "script.json", R"({"steps_per_frame": 1, "actions": [{"frame": 1, "do": "record", "dir": "rec"},
+        {"frame": 5, "do": "stop_recording"}, {"frame": 6, "do": "record", "dir": "rec"}]})");
+    const auto r = run_viewer(dir, "--scene droplet --dim 2 --particles 100 --script script.json --frames 8");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "rec" / "frame_00001.png"));   // frames 6 and 7
+    EXPECT_FALSE(std::filesystem::exists(dir / "rec" / "frame_00002.png"));  // frames 3 and 4 of the first
+    if (run_in(dir, "command -v ffmpeg").code != 0) GTEST_SKIP() << "ffmpeg is not installed: no MP4 to check";
+    const auto probe = run_in(dir, "ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames "
+                                   "-of json rec/recording.mp4");
+    ASSERT_EQ(probe.code, 0) << probe.err;
+    EXPECT_EQ(nlohmann::json::parse(probe.out).at("streams").at(0).at("nb_read_frames"), "2");
+}
