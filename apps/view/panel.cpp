@@ -108,8 +108,9 @@ void viewer::draw_panel() {
         const std::size_t k = *picked_;
         ImGui::Text("particle %zu at (%.4g, %.4g, %.4g)", k, double(snapshot_.x[k * 3]), double(snapshot_.x[k * 3 + 1]),
                     double(snapshot_.x[k * 3 + 2]));
-        ImGui::Text("speed %.4g, density %.4g, pressure %.4g, %u neighbors", double(snapshot_.speed[k]),
-                    double(snapshot_.density[k]), double(snapshot_.pressure[k]), snapshot_.neighbors[k]);
+        ImGui::Text("speed %.4g, density %.4g, pressure %.4g", double(snapshot_.speed[k]), double(snapshot_.density[k]),
+                    double(snapshot_.pressure[k]));
+        ImGui::Text("%u neighbors in the last step's lists", snapshot_.neighbors[k]);
         if (snapshot_.geometry.slots > 0)
             ImGui::Text("%zu within r = %.4g now, in %zu cells", search_.neighbors.size(), snapshot_.radius, search_.cells.size());
     } else {
