@@ -43,23 +43,6 @@ void viewer::draw_legend() {
     d->AddText(ImVec2(0.5f * (x0 + x1) - 0.5f * ImGui::CalcTextSize(name).x, y0 - 16), IM_COL32(230, 230, 230, 255), name);
 }
 
-void viewer::draw_pick_marker() {
-    if (!picked_ || *picked_ >= snapshot_.n) return;
-    int w = 0, h = 0;
-    glfwGetFramebufferSize(window_, &w, &h);
-    const auto vp = scene_viewport();
-    const mat4 projection = cam_.projection(float(vp[2]) / float(vp[3]));
-    const mat4 m = multiply(projection, cam_.view());
-    const float* p = &snapshot_.x[*picked_ * 3];
-    float clip[4];
-    for (int r = 0; r < 4; ++r) clip[r] = m[std::size_t(r)] * p[0] + m[std::size_t(4 + r)] * p[1] + m[std::size_t(8 + r)] * p[2] + m[std::size_t(12 + r)];
-    if (clip[3] <= 0) return;  // behind the camera
-    const float x = float(vp[0]) + (clip[0] / clip[3] + 1) / 2 * float(vp[2]);
-    const float y = float(h) - (float(vp[1]) + (clip[1] / clip[3] + 1) / 2 * float(vp[3]));
-    const float r = float(0.5 * snapshot_.spacing) * projection[5] * float(vp[3]) / 2 / clip[3];
-    ImGui::GetForegroundDrawList()->AddCircle(ImVec2(x, y), r + 3, IM_COL32(255, 255, 255, 255), 32, 2);
-}
-
 void viewer::draw_parameters() {
     const std::string active = sim::parameter_section(scene_.solver);
     for (const char* section : {"viscoelastic", "sph"}) {
@@ -125,8 +108,11 @@ void viewer::draw_panel() {
         const std::size_t k = *picked_;
         ImGui::Text("particle %zu at (%.4g, %.4g, %.4g)", k, double(snapshot_.x[k * 3]), double(snapshot_.x[k * 3 + 1]),
                     double(snapshot_.x[k * 3 + 2]));
-        ImGui::Text("speed %.4g, density %.4g, pressure %.4g, %u neighbors", double(snapshot_.speed[k]),
-                    double(snapshot_.density[k]), double(snapshot_.pressure[k]), snapshot_.neighbors[k]);
+        ImGui::Text("speed %.4g, density %.4g, pressure %.4g", double(snapshot_.speed[k]), double(snapshot_.density[k]),
+                    double(snapshot_.pressure[k]));
+        ImGui::Text("%u neighbors in the last step's lists", snapshot_.neighbors[k]);
+        if (snapshot_.geometry.slots > 0)
+            ImGui::Text("%zu within r = %.4g now, in %zu cells", search_.neighbors.size(), snapshot_.radius, search_.cells.size());
     } else {
         ImGui::TextDisabled("click a particle to see its fields");
     }
@@ -140,6 +126,7 @@ void viewer::draw_panel() {
     if (button("Reset")) reset();
     ImGui::SameLine();
     if (button("Reset view")) cam_.reset();
+    if (ImGui::Checkbox("cell grid (g)", &show_cell_grid_)) search_stale_ = true;
     if (ImGui::SliderFloat("time scale", &time_scale_, 0, 4, time_scale_ == 0 ? "as fast as possible" : "%.2f"))
         runner_->set_time_scale(time_scale_);
 
@@ -200,7 +187,19 @@ void viewer::draw_panel() {
     if (button("Save state")) save_state(state_path_);
     ImGui::SameLine();
     if (button("Load state")) load_state(state_path_);
+    std::snprintf(path, sizeof path, "%s", record_dir_.c_str());
+    if (ImGui::InputText("recording", path, sizeof path)) record_dir_ = path;
+    if (recorder_.recording()) {
+        if (button("Stop recording")) stop_recording();
+        ImGui::SameLine();
+        ImGui::Text("%zu frames", recorder_.frames());
+    } else if (button("Record")) {
+        start_recording(record_dir_);
+    }
     if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
+
+    ImGui::Separator();
+    draw_profile();
 
     ImGui::Separator();
     draw_scene_keys();

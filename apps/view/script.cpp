@@ -1,6 +1,7 @@
 #include "script.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -105,6 +106,13 @@ script_action read_action(const json& j, const std::string& where) {
         if (a.frames < 1) r.fail("key 'frames': expected at least 1");
     } else if (w == "button") {
         a.text = r.text("label");
+    } else if (w == "record") {
+        a.text = r.text("dir");
+    } else if (w == "stop_recording") {
+    } else if (w == "capture_profile") {
+        a.value = r.number("steps");
+        if (a.value < 1 || a.value != std::floor(a.value)) r.fail("key 'steps': expected a whole number >= 1");
+        a.text = r.text("path");
     } else if (w == "save_scene" || w == "save_state" || w == "load_state") {
         a.text = r.text("path");
     } else {

@@ -15,6 +15,8 @@
 //   button {"label": "Reset"}                                clicks the panel button with that label
 //   save_scene {"path": "out.json"}                          the scene JSON, for frnn sim
 //   save_state {"path": "x.bin"}, load_state {"path": ...}   a checkpoint (frnn sim's format)
+//   capture_profile {"steps": n, "path": "trace.json"}       a Chrome trace of the next n steps
+//   record {"dir": "rec"}, stop_recording                    PNG frames and an MP4 (recorder.hpp)
 // A bad file throws frnn::error naming the file, the action's index and what was expected.
 #pragma once
 #include <array>
@@ -28,9 +30,9 @@ struct script_action {
     std::int64_t frame = 0;
     std::string what;  ///< "play", "set", ...
     std::string where;  ///< "FILE: actions[i]", for messages
-    std::string name, text;  ///< set: the parameter; set_scene: the key path; key: the key; button: its label; color: the field; save_scene: the path
+    std::string name, text;  ///< set: the parameter; set_scene: the key path; key: the key; button: its label; color: the field; save_scene, save_state, load_state, capture_profile: the path; record: the folder
     std::string value_json;  ///< set_scene: the value as JSON text
-    double value = 0;
+    double value = 0;  ///< set, time_scale, scroll steps, capture_profile steps
     std::array<double, 3> vec{0, 0, 0};  ///< gravity, camera target, click/scroll position (x, y)
     std::array<double, 2> to{0, 0};      ///< drag end
     std::array<double, 2> range{0, 0};

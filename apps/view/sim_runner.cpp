@@ -1,8 +1,10 @@
 #include "sim_runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "frnn/error.hpp"
+#include "frnn/parallel.hpp"
 
 namespace frnn::view {
 namespace {
@@ -11,7 +13,7 @@ double seconds_since(clock_type::time_point t0) { return std::chrono::duration<d
 }  // namespace
 
 sim_runner::sim_runner(const sim::scene& s, int threads, double slow_step_ms)
-    : sim_(s, threads), slow_step_ms_(slow_step_ms), scene_(s) {
+    : sim_(s, threads), threads_(resolve_thread_count(threads)), slow_step_ms_(slow_step_ms), scene_(s) {
     sim_.snapshot(published_);
     fresh_ = true;
     thread_ = std::thread([this] { loop(); });
@@ -124,6 +126,48 @@ double sim_runner::mean_copy_ms() const {
     return copies_ ? 1e3 * copy_seconds_ / double(copies_) : 0;
 }
 
+sim_runner::stage_times sim_runner::recent_stage_ms() const {
+    std::lock_guard lock(mutex_);
+    return stage_ms_;
+}
+
+void sim_runner::capture_profile(int steps, const std::string& path) {
+    send([this, steps, path](sim::simulation& s) {
+        s.set_profiler(sim::profiler(true, threads_));
+        capture_left_ = std::max(steps, 1);
+        capture_path_ = path;
+        std::lock_guard lock(mutex_);
+        capture_status_ = "capturing " + std::to_string(capture_left_) + " steps";
+    });
+}
+
+std::string sim_runner::capture_status() const {
+    std::lock_guard lock(mutex_);
+    return capture_status_;
+}
+
+void sim_runner::after_step(const stage_times& before) {
+    const sim::profiler& prof = sim_.timings();
+    std::string status;
+    if (capture_left_ > 0 && --capture_left_ == 0) {
+        // A reset or a new scene replaced the tracing profiler by a plain one.
+        if (!prof.tracing()) {
+            status = "profile capture interrupted by a reset";
+        } else {
+            prof.write_trace(capture_path_);  // throws frnn::error when it cannot
+            status = "profile written to " + capture_path_;
+        }
+        sim_.set_profiler(sim::profiler());
+    }
+    std::lock_guard lock(mutex_);
+    const bool first = timed_steps_ == 1;
+    for (std::size_t k = 0; k < stage_ms_.size(); ++k) {
+        const double ms = 1e3 * (prof.total_seconds(sim::stage(k)) - before[k]);
+        stage_ms_[k] = first ? ms : 0.95 * stage_ms_[k] + 0.05 * ms;
+    }
+    if (!status.empty()) capture_status_ = status;
+}
+
 void sim_runner::publish() {
     const auto t0 = clock_type::now();
     sim_.snapshot(back_);
@@ -187,6 +231,8 @@ void sim_runner::loop() {
             }
             in_step_ = true;
             ++started_;
+            stage_times before{};
+            for (std::size_t k = 0; k < before.size(); ++k) before[k] = sim_.timings().total_seconds(sim::stage(k));
             const auto t0 = clock_type::now();
             if (slow_step_ms_ > 0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(slow_step_ms_));
             try {
@@ -198,9 +244,18 @@ void sim_runner::loop() {
             }
             const double dt = seconds_since(t0);
             in_step_ = false;
-            std::lock_guard lock(mutex_);
-            step_seconds_ += dt;
-            ++timed_steps_;
+            {
+                std::lock_guard lock(mutex_);
+                step_seconds_ += dt;
+                ++timed_steps_;
+            }
+            if (stepped) {
+                try {
+                    after_step(before);
+                } catch (const std::exception& e) {
+                    failure = e.what();
+                }
+            }
         }
         if (stepped) publish();
         std::lock_guard lock(mutex_);

@@ -8,6 +8,7 @@
 // Decoupled (default): while playing, steps run back to back, paced by the time scale.
 // Lockstep (scripts, tests): the drawing thread asks for exactly S steps per frame and waits.
 #pragma once
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -68,13 +69,26 @@ public:
     double mean_step_ms() const;
     double mean_copy_ms() const;
 
+    /// Milliseconds per step of each solver stage (sim::stage), averaged over about the last
+    /// 20 steps (exponentially), for the panel's live timing bar; zeros before the first step.
+    using stage_times = std::array<double, std::size_t(sim::stage::count)>;
+    stage_times recent_stage_ms() const;
+    /// Writes a Chrome trace (sim::profiler::write_trace) of the next `steps` steps to `path`.
+    /// A reset or new scene during them interrupts the capture; capture_status() tells how it
+    /// went ("" before any).
+    void capture_profile(int steps, const std::string& path);
+    std::string capture_status() const;
+
 private:
     void run_steps_async(int n);
     void send(std::function<void(sim::simulation&)> command);
     void loop();
     void publish();
+    /// After a step: the stage times and the capture under way (simulation thread).
+    void after_step(const stage_times& before);
 
     sim::simulation sim_;
+    int threads_;
     double slow_step_ms_;
     mutable std::mutex mutex_;
     std::condition_variable wake_, done_;
@@ -90,6 +104,10 @@ private:
     std::string error_;
     double step_seconds_ = 0, copy_seconds_ = 0;
     std::uint64_t timed_steps_ = 0, copies_ = 0;
+    stage_times stage_ms_{};          // under mutex_
+    std::string capture_status_;      // under mutex_
+    int capture_left_ = 0;            // simulation thread only
+    std::string capture_path_;        // simulation thread only
     std::thread thread_;
 };
 

@@ -1,6 +1,7 @@
 // `--state FILE`: the end of a run as JSON, for tests: the step and time, the particles in id
 // order with every field, the colliders posed at that time, the camera, the legend's pixels
-// and range, and how many frames were drawn during a single step.
+// and range, the picked particle's search (its cells and neighbors, and the grid they come
+// from), the recent time of each stage and how many frames were drawn during a single step.
 // gl.hpp first: it declares the OpenGL prototypes, which GLFW's own include of GL/gl.h omits.
 #include "gl.hpp"
 
@@ -60,6 +61,22 @@ void viewer::write_state(const std::string& path) const {
                    {"max", shown_max_},
                    {"rect", legend_rect_}};
     j["picked"] = picked_ ? json(*picked_) : json(nullptr);
+    // The search made visible, with the grid it comes from so tests can recompute it.
+    const auto& g = snapshot_.geometry;
+    j["search"] = {{"radius", snapshot_.radius},
+                   {"grid", {{"origin", g.origin}, {"cell", g.cell}, {"dims", g.dims}, {"scale", g.scale}, {"reach", g.reach},
+                             {"periodic", g.periodic}}},
+                   {"neighbors", search_.neighbors},
+                   {"cells", search_.cells},
+                   {"cell_grid", show_cell_grid_},
+                   {"grid_cells", grid_cells_}};
+    json stages = json::object();
+    const auto stage_ms = runner_->recent_stage_ms();
+    for (std::size_t k = 0; k < stage_ms.size(); ++k) stages[sim::to_string(sim::stage(k))] = stage_ms[k];
+    j["profile"] = {{"stage_ms", stages},
+                    {"drawing_ms", draw_ms_},
+                    {"steps_per_second", steps_per_second_},
+                    {"capture", runner_->capture_status()}};
     j["frames"] = frame_;
     j["max_frames_in_one_step"] = max_frames_in_step_;
     j["playing"] = playing_;

@@ -102,6 +102,7 @@ viewer::viewer(const sim::scene& s, const view_options& o) : opt_(o), scene_(s) 
 
     particles_ = std::make_unique<particle_renderer>();
     lines_ = std::make_unique<line_renderer>();
+    search_lines_ = std::make_unique<line_renderer>();
 
     const auto names = sim::builtin_scene_names();
     chosen_scene_ = int(std::find(names.begin(), names.end(), scene_.name) - names.begin());
@@ -116,6 +117,7 @@ viewer::~viewer() {
     runner_.reset();  // stop the simulation thread first
     particles_.reset();
     lines_.reset();
+    search_lines_.reset();
     if (window_) {
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
@@ -138,6 +140,7 @@ void viewer::on_key(int key) {
     case GLFW_KEY_S: step(); break;
     case GLFW_KEY_R: reset(); break;
     case GLFW_KEY_C: cam_.reset(); break;
+    case GLFW_KEY_G: show_cell_grid_ = !show_cell_grid_, search_stale_ = true; break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
     default: break;
@@ -193,6 +196,11 @@ void viewer::save_scene(const std::string& path) {
         message_ = e.what();
         if (script_) script_error_ = e.what();
     }
+}
+
+void viewer::capture_profile(int steps, const std::string& path) {
+    runner_->capture_profile(steps, path);
+    message_.clear();
 }
 
 void viewer::save_state(const std::string& path) {
@@ -270,6 +278,12 @@ void viewer::apply(const script_action& a) {
         p.down[0] = false;
         pointer_events_.insert(pointer_events_.begin() + 1, {frame_ + 1, p});
         std::stable_sort(pointer_events_.begin(), pointer_events_.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    } else if (w == "record") {
+        start_recording(a.text);
+    } else if (w == "stop_recording") {
+        stop_recording();
+    } else if (w == "capture_profile") {
+        capture_profile(int(a.value), a.text);
     } else if (w == "save_scene") {
         save_scene(a.text);
     } else if (w == "save_state") {
@@ -322,6 +336,7 @@ void viewer::move_camera(const pointer_state& now) {
             int w = 0, h = 0;
             glfwGetFramebufferSize(window_, &w, &h);
             picked_ = pick_particle(snapshot_, float(0.5 * snapshot_.spacing), cam_, scene_viewport(), h, now.x, now.y);
+            search_stale_ = true;
         }
         drag_button_ = -1;
     }
@@ -341,6 +356,7 @@ void viewer::refresh_particles() {
             shown_min_ = *lo, shown_max_ = *hi;
         }
         particles_->upload(snapshot_.x, values_);
+        search_stale_ = true;
         if (snapshot_.time != lines_time_ || scene_changed_) {
             lines_->upload(scene_lines(scene_, snapshot_.time));  // as edited: what Reset will run
             lines_time_ = snapshot_.time;
@@ -372,6 +388,7 @@ void viewer::draw_scene() {
     lines_->draw(multiply(projection, view));
     particles_->draw(view, projection, float(0.5 * snapshot_.spacing), shown_min_, shown_max_);
     glDisable(GL_DEPTH_TEST);
+    search_lines_->draw(multiply(projection, view));  // over the particles: the cells hold them
     glViewport(0, 0, w, h);
 }
 
@@ -397,6 +414,7 @@ void viewer::frame() {
     const pointer_state pointer = read_pointer();
     ImGui::NewFrame();
     move_camera(pointer);
+    refresh_search(pointer);
     draw_panel();
     draw_legend();
     draw_pick_marker();
@@ -406,8 +424,17 @@ void viewer::frame() {
     draw_scene();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (opt_.timing) glFinish();
-    draw_seconds_ += seconds_since(t_draw);
+    const double drawn = seconds_since(t_draw);
+    draw_seconds_ += drawn;
+    draw_ms_ = timed_frames_ == 0 ? 1e3 * drawn : 0.95 * draw_ms_ + 0.05 * 1e3 * drawn;
     ++timed_frames_;
+    const double window = seconds_since(rate_start_);
+    if (window >= 0.5) {
+        const std::uint64_t steps = runner_->started_steps();
+        steps_per_second_ = double(steps - rate_steps_) / window;
+        rate_steps_ = steps, rate_start_ = clock_type::now();
+    }
+    if (recorder_.recording()) record_frame();
 
     // Frames drawn while one step runs (the decoupling test); a step's index tells them apart.
     const std::uint64_t started = runner_->started_steps();
@@ -429,6 +456,7 @@ int viewer::run() {
         if (last || !script_error_.empty()) break;
     }
     runner_->set_playing(false);
+    if (recorder_.recording()) stop_recording();
     if (!opt_.state_file.empty()) write_state(opt_.state_file);
     if (opt_.timing && timed_frames_ > 0)
         std::printf("frnn-view: %zu particles, %ld frames: simulation %.2f ms/step, copy %.2f ms/snapshot, "
@@ -442,7 +470,7 @@ int viewer::run() {
     return 0;
 }
 
-void viewer::save_screenshot(const std::string& path) const {
+sim::image viewer::window_pixels() const {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
     sim::image img;
@@ -455,7 +483,41 @@ void viewer::save_screenshot(const std::string& path) const {
     const std::size_t stride = std::size_t(w) * 3;
     for (int y = 0; y < h; ++y)  // OpenGL's rows go bottom-up, the image's top-down
         std::copy_n(rows.data() + std::size_t(h - 1 - y) * stride, stride, img.rgb.data() + std::size_t(y) * stride);
-    io::write_file_atomically(path, sim::encode_png(img));
+    return img;
+}
+
+void viewer::save_screenshot(const std::string& path) const { io::write_file_atomically(path, sim::encode_png(window_pixels())); }
+
+void viewer::start_recording(const std::string& dir) {
+    try {
+        if (recorder_.recording()) stop_recording();
+        recorder_.start(dir);
+        message_ = "recording to " + dir;
+    } catch (const std::exception& e) {
+        message_ = e.what();
+        if (script_) script_error_ = e.what();
+    }
+}
+
+void viewer::stop_recording() {
+    if (!recorder_.recording()) return;
+    try {
+        message_ = "recorded " + recorder_.stop();
+    } catch (const std::exception& e) {
+        message_ = e.what();
+        if (script_) script_error_ = e.what();
+    }
+}
+
+// A frame that cannot be written ends the recording (a full disk must not fail every frame).
+void viewer::record_frame() {
+    try {
+        recorder_.add(window_pixels());
+    } catch (const std::exception& e) {
+        message_ = e.what();
+        if (script_) script_error_ = e.what();
+        stop_recording();
+    }
 }
 
 }  // namespace frnn::view

@@ -4,6 +4,7 @@
 // runs its S steps in lockstep.
 #pragma once
 #include <array>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -13,7 +14,9 @@
 #include "camera.hpp"
 #include "field.hpp"
 #include "options.hpp"
+#include "recorder.hpp"
 #include "script.hpp"
+#include "search_view.hpp"
 #include "sim_runner.hpp"
 
 struct GLFWwindow;
@@ -59,9 +62,16 @@ private:
     std::array<int, 4> scene_viewport() const;
     void draw_panel();
     void draw_legend();
-    /// A ring around the picked particle.
+    /// A ring around the picked particle and smaller ones around its neighbors.
     void draw_pick_marker();
+    /// The picked particle's search and the cell grid block (toggle) for this frame's pointer,
+    /// recomputed when the snapshot, the pick or the particle under the pointer changes.
+    void refresh_search(const pointer_state& now);
     void draw_parameters();
+    /// The Profile section: the live per-stage timing bar, steps and frames per second, and
+    /// "Capture profile".
+    void draw_profile();
+    void capture_profile(int steps, const std::string& path);
     /// The Scene section: a control for every key of the scene's JSON with no control elsewhere.
     void draw_scene_keys();
     /// Sets a scene key by its path (sim::with_scene_key) for the panel and `set_scene` scripts:
@@ -69,7 +79,13 @@ private:
     /// them, every other key waits for Reset. Throws frnn::error when the key or value is bad.
     void set_scene_key(const std::string& path, const std::string& value_json);
     void write_state(const std::string& path) const;
+    /// The window's pixels as drawn this frame (the back buffer), top row first.
+    sim::image window_pixels() const;
     void save_screenshot(const std::string& path) const;
+    /// Record: starts or stops recording (recorder.hpp); the outcome goes to the panel.
+    void start_recording(const std::string& dir);
+    void stop_recording();
+    void record_frame();
     void save_scene(const std::string& path);
     void switch_scene(sim::scene next);
     /// Shows `next` in the panel and frames it (the simulation thread already has it).
@@ -118,6 +134,16 @@ private:
     int drag_button_ = -1;
     pointer_state press_;  // where the camera's drag began: a release there is a click (picks)
     std::optional<std::size_t> picked_;  // particle id
+
+    // The search made visible (search_view.hpp): the picked particle's cells and neighbors, and
+    // with the cell grid toggle the block of cells a search visits around the particle under
+    // the pointer (the picked one when the pointer is on none).
+    std::unique_ptr<line_renderer> search_lines_;
+    bool show_cell_grid_ = false;
+    particle_search search_;
+    std::vector<cell_index> grid_cells_;
+    std::optional<std::size_t> grid_center_;
+    bool search_stale_ = true;
     double scroll_ = 0;
     std::map<std::string, std::array<float, 4>> buttons_;  // panel button rects by label
     std::array<float, 4> legend_rect_{0, 0, 0, 0};
@@ -128,6 +154,17 @@ private:
     double upload_seconds_ = 0, draw_seconds_ = 0, wait_seconds_ = 0;
     long timed_frames_ = 0;
     std::string script_error_;
+
+    // Profiling: drawing time per frame (averaged like the stages'), steps per second over
+    // windows of half a second, the capture's steps and file.
+    double draw_ms_ = 0, steps_per_second_ = 0;
+    std::chrono::steady_clock::time_point rate_start_ = std::chrono::steady_clock::now();
+    std::uint64_t rate_steps_ = 0;
+    int profile_steps_ = 20;
+    std::string profile_path_ = "profile.json";
+
+    recorder recorder_;
+    std::string record_dir_ = "recording";
 };
 
 }  // namespace frnn::view

@@ -69,6 +69,7 @@ public:
     double spacing() const override { return spacing_; }
     const scene& get_scene() const override { return scene_; }
     std::uint32_t neighbor_count(std::size_t i) const override { return neighbors_.count(i); }
+    const grid_geometry<float>& geometry() const override { return grid_.geometry(); }
 
     void set_parameters(const scene& s) override {
         const std::string section = parameter_section(scene_.solver);

@@ -77,6 +77,8 @@ void simulation::snapshot(particle_snapshot& out) const {
     out.step = solver_->steps();
     out.time = solver_->time();
     out.spacing = solver_->spacing();
+    out.radius = solver_->radius();
+    out.geometry = solver_->geometry();
     out.n = v.n;
     out.x.assign(v.n * 3, 0.f);
     out.speed.resize(v.n);

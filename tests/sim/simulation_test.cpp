@@ -5,6 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
 
 #include "expect_error.hpp"
 #include "frnn/sim/run.hpp"
@@ -175,4 +178,58 @@ TEST(SimSimulation, LoadingANonCheckpointNamesTheFileAndKeepsTheRun) {
     frnn::test::expect_error([&] { sim.load_checkpoint((dir / "not.bin").string()); }, {"not.bin", "not a frnn sim checkpoint"});
     frnn::test::expect_error([&] { sim.load_checkpoint((dir / "missing.bin").string()); }, {"cannot open checkpoint", "missing.bin"});
     EXPECT_EQ(sim.steps(), 1u);
+}
+
+// The viewer draws the cells a particle's search visits from the snapshot's geometry: after a
+// step every pair within the snapshot's radius lies in those cells, and before it there are none.
+TEST(SimSimulation, SnapshotCarriesTheRadiusAndTheGridTheSearchUsed) {
+    simulation sim(droplet_2d(), 1);
+    particle_snapshot snap;
+    sim.snapshot(snap);
+    EXPECT_EQ(snap.radius, sim.state().radius());
+    EXPECT_EQ(snap.geometry.slots, 0u);
+    sim.step();
+    sim.snapshot(snap);
+    EXPECT_EQ(snap.radius, sim.state().radius());
+    ASSERT_GT(snap.geometry.slots, 0u);
+    EXPECT_EQ(double(snap.geometry.search_radius), double(float(snap.radius)) * double(snap.geometry.scale));
+    const auto& g = snap.geometry;
+    const auto at = [&](std::size_t k) { return std::array<float, 2>{snap.x[k * 3] * g.scale, snap.x[k * 3 + 1] * g.scale}; };
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < snap.n; ++i) {
+        const frnn::cell_range r = g.cells_within(at(i));
+        for (std::size_t j = 0; j < snap.n; ++j) {
+            const double dx = snap.x[i * 3] - snap.x[j * 3], dy = snap.x[i * 3 + 1] - snap.x[j * 3 + 1];
+            if (j == i || std::sqrt(dx * dx + dy * dy) > snap.radius) continue;
+            ++pairs;
+            const frnn::cell_index c = g.cell_of(at(j));
+            for (std::size_t a = 0; a < 2; ++a) ASSERT_TRUE(c[a] >= r.first[a] && c[a] <= r.last[a]) << i << " " << j;
+        }
+    }
+    EXPECT_GT(pairs, snap.n);  // the droplet is dense: particles have neighbors
+}
+
+// The viewer's "capture profile": a tracing profiler set between steps traces the steps after
+// it, one span per stage per step, numbered by the step.
+TEST(SimSimulation, TracingProfilerSetBetweenStepsTracesTheStepsAfter) {
+    simulation sim(droplet_2d(), 1);
+    sim.step();
+    sim.set_profiler(profiler(true, 1));
+    for (int k = 0; k < 3; ++k) sim.step();
+    EXPECT_EQ(sim.timings().steps(), 3u);
+    const frnn::test::scratch_dir dir("sim_set_profiler");
+    sim.timings().write_trace((dir / "trace.json").string());
+    std::ifstream in(dir / "trace.json");
+    const auto trace = nlohmann::json::parse(in);
+    std::map<std::uint64_t, std::set<std::string>> stages;  // by step
+    for (const auto& e : trace.at("traceEvents"))
+        if (e.at("ph") == "X") stages[e.at("args").at("step").get<std::uint64_t>()].insert(e.at("name").get<std::string>());
+    ASSERT_EQ(stages.size(), 3u);
+    EXPECT_EQ(stages.begin()->first, 1u);  // the step before the profiler was set is not in it
+    for (const auto& [step, names] : stages) {
+        EXPECT_TRUE(names.count(to_string(stage::grid)) && names.count(to_string(stage::neighbors))) << step;
+        EXPECT_EQ(names, stages.begin()->second) << step;
+    }
+    sim.reset();
+    EXPECT_FALSE(sim.timings().tracing());
 }

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "frnn/sim/parameters.hpp"
@@ -30,6 +31,8 @@ struct particle_snapshot {
     std::vector<float> x;  ///< n * 3; z = 0 in 2D
     std::vector<float> speed, density, pressure;
     std::vector<std::uint32_t> neighbors;  ///< in the last step's lists
+    double radius = 0;                     ///< the solver's neighbor (kernel support) radius
+    grid_geometry<float> geometry;         ///< the last step's grid (solver::geometry())
 };
 
 class simulation {
@@ -55,6 +58,9 @@ public:
     std::uint64_t steps() const { return solver_->steps(); }
     double time() const { return solver_->time(); }
     const profiler& timings() const { return prof_; }
+    /// Times the steps from now on with `p` (a tracing one captures a Chrome trace of the next
+    /// steps); reset(), a new scene and a loaded checkpoint start a fresh, non-tracing one.
+    void set_profiler(profiler p) { prof_ = std::move(p); }
 
     /// Writes the scene (with its current parameters) and the full state to `path` in the
     /// format of `frnn sim`'s checkpoint.bin: `frnn sim --resume DIR` continues a folder holding

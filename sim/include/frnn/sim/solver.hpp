@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 
+#include "frnn/grid_geometry.hpp"
 #include "frnn/sim/profiler.hpp"
 #include "frnn/sim/scene.hpp"
 
@@ -56,6 +57,9 @@ public:
     virtual void set_parameters(const scene& s) = 0;
     /// Neighbors of particle i (view() order) in the last step's lists; 0 before the first step.
     virtual std::uint32_t neighbor_count(std::size_t i) const = 0;
+    /// The cells of the grid the last step searched (frnn/grid_geometry.hpp), so a viewer can
+    /// draw what the search visits; a default value (no slots) before the first step.
+    virtual const grid_geometry<float>& geometry() const = 0;
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.
