@@ -7,18 +7,23 @@ install(TARGETS frnn EXPORT frnnTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # The installed headers, by name: a header in include/frnn is public once it is listed here.
-# The Vulkan backend installs its own (vulkan.hpp, grid.glsl) with its component.
+# The Vulkan backend installs its own (vulkan.hpp, grid.glsl) with its component, and so does
+# the MPI layer (mpi/).
 set(frnn_public_headers
   brute_force.hpp buffer.hpp csr.hpp error.hpp frnn.hpp grid.hpp grid_geometry.hpp options.hpp
   parallel.hpp point_sets.hpp search_scale.hpp simd.hpp verlet_lists.hpp
   detail/candidate_runs.hpp detail/grid_storage.hpp)
 set(frnn_vulkan_headers vulkan.hpp grid.glsl)
+# The MPI layer installs its folder with its component (src/mpi/CMakeLists.txt).
+set(frnn_mpi_headers mpi/collective_error.hpp mpi/communication_plan.hpp mpi/decomposition.hpp
+  mpi/distributor.hpp mpi/domain.hpp mpi/halo.hpp)
 # A header nobody listed would be missing from installs without anyone noticing: refuse it.
 file(GLOB_RECURSE frnn_headers_present RELATIVE ${PROJECT_SOURCE_DIR}/include/frnn
      ${PROJECT_SOURCE_DIR}/include/frnn/*)
 foreach(header ${frnn_headers_present})
-  if(NOT header IN_LIST frnn_public_headers AND NOT header IN_LIST frnn_vulkan_headers)
-    message(FATAL_ERROR "include/frnn/${header} is in neither list of cmake/FrnnInstall.cmake")
+  if(NOT header IN_LIST frnn_public_headers AND NOT header IN_LIST frnn_vulkan_headers
+     AND NOT header IN_LIST frnn_mpi_headers)
+    message(FATAL_ERROR "include/frnn/${header} is in no list of cmake/FrnnInstall.cmake")
   endif()
 endforeach()
 foreach(header ${frnn_public_headers})

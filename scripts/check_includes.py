@@ -11,16 +11,19 @@ import tempfile
 from pathlib import Path
 
 # The public headers of the core layer (include/frnn/*.hpp without vulkan.hpp, and detail/).
-CORE = r"frnn/(?!vulkan\.hpp|io/|sim/|bench/)[a-z_]+(\.hpp|/[a-z_]+\.hpp)"
+CORE = r"frnn/(?!vulkan\.hpp|io/|sim/|bench/|mpi/)[a-z_]+(\.hpp|/[a-z_]+\.hpp)"
 VULKAN = r"frnn/vulkan\.hpp|frnn/grid\.glsl"
+MPI = r"frnn/mpi/[a-z_]+\.hpp"
 LOCAL = r'[a-z0-9_]+\.(hpp|glsl)'  # a header beside the file (quoted includes search there first)
 
 # Folder -> what its quoted includes may name. Tests and examples may use everything.
 RULES = {
     "include/frnn": [CORE],
+    "include/frnn/mpi": [CORE, MPI],
     "src/cpu": [CORE, r"cpu/.*"],
     "src/core": [CORE, r"cpu/.*", r"core/.*"],
     "src/io": [CORE, r"frnn/io/.*", LOCAL],
+    "src/mpi": [CORE, MPI, r"mpi/.*"],
     # The Vulkan grid shares the CPU grid's policies: kind choice and cell rules.
     "src/vulkan": [CORE, VULKAN, r"core/(kind_policy|cell_rules)\.hpp", LOCAL],
     "sim": [CORE, r"frnn/sim/.*", r"frnn/io/atomic_file\.hpp", LOCAL],
@@ -35,8 +38,10 @@ def check(root: Path) -> list[str]:
     problems = []
     for folder, allowed in RULES.items():
         pattern = re.compile("|".join(f"(?:{a})" for a in allowed))
+        # A subfolder with rules of its own (include/frnn/mpi) follows those.
+        nested = [root / f for f in RULES if f.startswith(folder + "/")]
         for path in sorted((root / folder).rglob("*")):
-            if path.suffix not in (".hpp", ".cpp", ".h", ".glsl", ".comp"):
+            if path.suffix not in (".hpp", ".cpp", ".h", ".glsl", ".comp") or any(n in path.parents for n in nested):
                 continue
             for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
                 m = INCLUDE.match(line)

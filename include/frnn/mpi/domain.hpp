@@ -1,0 +1,113 @@
+// frnn::mpi::domain: the fixed-radius neighbor search across MPI ranks.
+//
+// Every particle carries a global id (uint64). A time step:
+//   balance(coords, ids)  moves every particle to the rank that owns its place (recursive
+//                         coordinate bisection, recomputed when asked, on the first call, or
+//                         when the load imbalance exceeds options.imbalance) and returns the
+//                         distributor that moved them: migrate the caller's other fields with it;
+//   build(coords, ids)    receives the ghosts (particles within r + skin of this rank's
+//                         sub-domain, periodic images shifted) and builds frnn's CPU grid over
+//                         local + ghost particles;
+//   update(coords)        later steps: refreshes ghost positions through the same plan and
+//                         rebuilds the grid, as long as no particle moved more than skin / 2;
+//   neighbor_lists()      rows for the local particles, indices into local + ghost arrays;
+//                         halo() gathers and scatter_adds any other field in that layout.
+// The pairs found are exactly those of a single-process frnn::grid over all particles (same
+// distance formula, minimum image when periodic), whatever the number of ranks or threads.
+//
+// Bad input on any rank (ranks disagreeing on the radius, the box or the skin, non-finite
+// coordinates, points outside the periodic box, fewer particles than ranks, arrays of the
+// wrong size) makes every rank throw the same frnn::error.
+// Complexity: balance O(n log ranks) plus the decomposition when recomputed, build and update
+// O(n + ghosts) plus one message per neighboring rank, lists as frnn::grid's.
+// Rank safety: every member but the accessors is collective over the communicator given at
+// construction (duplicated: frnn's messages never meet the caller's). Thread safety: const
+// members may be called concurrently.
+#pragma once
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "frnn/csr.hpp"
+#include "frnn/grid.hpp"
+#include "frnn/mpi/decomposition.hpp"
+#include "frnn/mpi/distributor.hpp"
+#include "frnn/mpi/halo.hpp"
+
+namespace frnn::mpi {
+
+struct domain_options {
+    std::vector<double> periodic;  ///< box lengths, each > 2 (r + skin); empty: open
+    double skin = 0;               ///< ghosts reach r + skin: particles may move skin / 2
+    double imbalance = 0.1;        ///< balance() re-cuts past this imbalance (max / mean - 1)
+    int threads = 0;               ///< the local grid's threads (0: frnn::default_thread_count())
+};
+
+template <class T, int D>
+class domain {
+public:
+    /// Collective over `comm` (which is duplicated): checks that every rank passed the same
+    /// radius and options.
+    domain(MPI_Comm comm, T radius, domain_options options = {});
+    domain(const domain&) = delete;
+    domain& operator=(const domain&) = delete;
+    ~domain();
+
+    /// Moves this rank's particles (coords n*D values, ids, optional weights: a cost per
+    /// particle for the cut) to their owners; on return they hold this rank's particles.
+    /// `rebalance` re-cuts space whatever the imbalance.
+    const distributor& balance(std::vector<T>& coords, std::vector<std::uint64_t>& ids,
+                               std::vector<double>* weights = nullptr, bool rebalance = false);
+    /// Ghosts and the local grid for this rank's particles (as balance() left them).
+    void build(std::span<const T> coords, std::span<const std::uint64_t> ids);
+    /// New coordinates of the same local particles: refreshes the ghosts through the plan of
+    /// the last build and rebuilds the grid. Returns false (on every rank, changing nothing)
+    /// when some particle moved more than skin / 2 since that build: balance and build again.
+    bool update(std::span<const T> coords);
+
+    MPI_Comm comm() const { return comm_; }
+    T radius() const { return radius_; }
+    const decomposition<T, D>& cuts() const { return cuts_; }
+    const frnn::mpi::halo<T, D>& halo() const { return halo_; }
+    std::size_t local_size() const { return halo_.local_size(); }
+    std::size_t ghost_size() const { return halo_.ghost_size(); }
+    /// Local then ghost particles: coordinates (ghosts shifted by their images) and ids.
+    std::span<const T> positions() const { return positions_; }
+    std::span<const std::uint64_t> ids() const { return ids_; }
+
+    /// Neighbors of each local particle (rows local_size()), indices into positions(), by
+    /// increasing index, with distances when asked.
+    csr<T> neighbor_lists(bool distances = false) const;
+    /// Every pair (id of a local particle, id of its neighbor), sorted.
+    std::vector<std::array<std::uint64_t, 2>> global_pairs() const;
+
+private:
+    void build_grid();
+
+    MPI_Comm comm_ = MPI_COMM_NULL;
+    T radius_;
+    domain_options options_;
+    T candidate_radius_;  // the grid's radius: r, plus rounding slack for shifted images
+    T scale_ = 1;         // the single-process search scale (frnn/search_scale.hpp)
+    decomposition<T, D> cuts_;
+    bool have_cuts_ = false;
+    distributor moved_;
+    frnn::mpi::halo<T, D> halo_;
+    std::vector<T> raw_;        // local + ghost coordinates as their owners hold them
+    std::vector<T> positions_;  // the same, ghosts shifted by their images
+    std::vector<T> built_;      // local coordinates at the last build
+    std::vector<std::uint64_t> ids_;
+    grid<T, D> grid_;
+};
+
+extern template class domain<float, 2>;
+extern template class domain<float, 3>;
+extern template class domain<double, 2>;
+extern template class domain<double, 3>;
+
+}  // namespace frnn::mpi
