@@ -1,40 +1,71 @@
-// The dam-break reference: the surge front of Martin and Moyce (1952), "Part IV. An
-// experimental study of the collapse of liquid columns on a rigid horizontal plane",
-// Phil. Trans. R. Soc. Lond. A 244, 312-324: the front Z = x / a against T = t sqrt(2 g / a)
-// for a column of width a and height 2a, and a simulation's mean deviation from it.
+// The dam-break reference (frnn/sim/martin_moyce.hpp): the data file's rows, read once from
+// the copy compiled in by sim/CMakeLists.txt, and the error of a simulated front.
+#include "frnn/sim/martin_moyce.hpp"
+
 #include <cmath>
+#include <cstddef>
+#include <sstream>
 #include <string>
-#include <utility>
-#include <vector>
 
 #include "frnn/error.hpp"
-#include "frnn/sim/run.hpp"
 
 namespace frnn::sim {
 
-const std::vector<std::pair<double, double>>& martin_moyce() {
-    static const std::vector<std::pair<double, double>> ref = {{0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292},
-                                                               {2.547, 2.995}, {3.345, 4.134}, {4.034, 4.944},
-                                                               {4.418, 5.881}, {5.091, 6.980}, {5.685, 7.945}};
-    return ref;
+const char* martin_moyce_csv();  // generated from sim/data/martin-moyce-1952.csv
+
+namespace {
+
+std::vector<front_series> parse_series(const std::string& text) {
+    std::vector<front_series> all;
+    std::istringstream in(text);
+    std::string line;
+    bool header = false;
+    for (int number = 1; std::getline(in, line); ++number) {
+        if (line.empty() || line[0] == '#') continue;
+        if (!header) {
+            header = true;
+            continue;
+        }
+        double a = 0, T = 0, Z = 0;
+        char c1 = 0, c2 = 0;
+        std::istringstream row(line);
+        if (!(row >> a >> c1 >> T >> c2 >> Z) || c1 != ',' || c2 != ',')
+            throw error("martin-moyce-1952.csv line " + std::to_string(number) + ": not a_in,T,Z: " + line);
+        if (all.empty() || all.back().a_inches != a) all.push_back({a, {}});
+        auto& points = all.back().points;
+        if (!points.empty() && !(T > points.back().first))
+            throw error("martin-moyce-1952.csv line " + std::to_string(number) + ": T does not increase");
+        points.emplace_back(T, Z);
+    }
+    return all;
 }
 
-double front_deviation(const std::vector<std::pair<double, double>>& front, double t_lo, double t_hi) {
+}  // namespace
+
+const std::vector<front_series>& martin_moyce() {
+    static const std::vector<front_series> series = parse_series(martin_moyce_csv());
+    return series;
+}
+
+double front_error(const std::vector<std::pair<double, double>>& front, const front_series& series, double t_lo,
+                   double t_hi) {
     double sum = 0;
     int count = 0;
-    for (const auto& [T, Z] : martin_moyce()) {
+    for (const auto& [T, Z] : series.points) {
         if (T < t_lo || T > t_hi) continue;
         if (front.empty() || front.front().first > T || front.back().first < T)
             throw error("front record does not cover T = " + std::to_string(T));
-        std::size_t k = 1;
-        while (front[k].first < T) ++k;
-        const auto& [t0, z0] = front[k - 1];
-        const auto& [t1, z1] = front[k];
-        const double z = t1 > t0 ? z0 + (z1 - z0) * (T - t0) / (t1 - t0) : z1;
+        std::size_t k = 0;
+        while (front[k].first < T) ++k;  // front[k] is the first record at T or after
+        double z = front[k].second;
+        if (front[k].first > T) {
+            const auto& [t0, z0] = front[k - 1];
+            z = z0 + (front[k].second - z0) * (T - t0) / (front[k].first - t0);
+        }
         sum += std::abs(z - Z) / Z;
         ++count;
     }
-    if (count == 0) throw error("no reference point of Martin & Moyce in the T range");
+    if (count == 0) throw error("no point of Martin & Moyce's series in the T range");
     return sum / count;
 }
 

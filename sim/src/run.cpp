@@ -17,6 +17,7 @@
 #include "frnn/error.hpp"
 #include "frnn/io/atomic_file.hpp"
 #include "frnn/parallel.hpp"
+#include "frnn/sim/martin_moyce.hpp"
 #include "frnn/sim/output.hpp"
 #include "frnn/sim/solver.hpp"
 #include "checkpoint.hpp"
@@ -158,7 +159,7 @@ run_result result_of(solver& sol, profiler& prof, const run_state& st, const std
     return res;
 }
 
-// summary.json, and front.csv with the deviation from Martin & Moyce (into res) when the scene
+// summary.json, and front.csv with the errors against Martin & Moyce (into res) when the scene
 // records the surge front.
 void write_summary(const std::string& dir, solver& sol, profiler& prof, const run_state& st, run_result& res,
                    const run_options& opt, int threads, std::uint64_t this_run, bool resumed) {
@@ -192,12 +193,18 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
         csv << "T,Z\n";
         for (const auto& [T, Z] : st.front) csv << T << ',' << Z << '\n';
         io::write_file_atomically(dir + "/front.csv", csv.str());
+        // Per series, {"a_inches", "error"}; null when the run ends before T = front_error_t_hi.
+        json errors = nullptr;
         try {
-            res.front_deviation = front_deviation(st.front);
-            summary["martin_moyce_mean_relative_deviation"] = res.front_deviation;
+            std::vector<double> found;
+            for (const auto& series : martin_moyce()) found.push_back(front_error(st.front, series));
+            errors = json::array();
+            for (std::size_t k = 0; k < found.size(); ++k)
+                errors.push_back({{"a_inches", martin_moyce()[k].a_inches}, {"error", found[k]}});
+            res.front_errors = found;
         } catch (const error&) {
-            summary["martin_moyce_mean_relative_deviation"] = nullptr;  // run too short for T in [1, 4]
         }
+        summary["martin_moyce"] = {{"T_range", {front_error_t_lo, front_error_t_hi}}, {"series", errors}};
     }
     io::write_file_atomically(dir + "/summary.json", summary.dump(2) + "\n");
 }
@@ -210,9 +217,13 @@ void print_report(const scene& sc, profiler& prof, const run_result& res, const 
                 res.wall_seconds, threads);
     if (opt.load.set) std::printf("%s", load_line(prof, opt.load).c_str());
     std::printf("%s", prof.table(bool(opt.load.set)).c_str());
-    if (res.front_deviation >= 0)
-        std::printf("surge front vs Martin & Moyce (1952): mean relative deviation %.1f%% over T in [1, 4] (%s/front.csv)\n",
-                    100 * res.front_deviation, dir.c_str());
+    if (!res.front_errors.empty()) {
+        std::printf("surge front vs Martin & Moyce (1952), mean relative error over T in [%g, %g]:", front_error_t_lo,
+                    front_error_t_hi);
+        for (std::size_t k = 0; k < res.front_errors.size(); ++k)
+            std::printf("%s %.1f%% (a = %g in)", k ? "," : "", 100 * res.front_errors[k], martin_moyce()[k].a_inches);
+        std::printf(" (%s/front.csv)\n", dir.c_str());
+    }
     std::printf("output: %s (particles.pvd opens in ParaView)\n", dir.c_str());
 }
 

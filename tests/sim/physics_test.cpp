@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "frnn/error.hpp"
+#include "frnn/sim/martin_moyce.hpp"
 #include "frnn/sim/run.hpp"
 #include "frnn/sim/solver.hpp"
 #include "scratch_dir.hpp"
@@ -64,7 +65,7 @@ TEST(SimPhysics, DamBreakFrontFollowsMartinMoyce) {
     o.solver = solver_kind::sph;
     o.dim = 2;
     o.particles = 800;  // the scene's default is 3200; coarser here to stay fast
-    o.duration = 4.1 / std::sqrt(2 * 9.81 / 0.25);
+    o.duration = (front_error_t_hi + 0.1) / std::sqrt(2 * 9.81 / 0.25);
     run_options opt;
     const frnn::test::scratch_dir dir("sim_front");
     opt.out_dir = dir.string();
@@ -76,15 +77,39 @@ TEST(SimPhysics, DamBreakFrontFollowsMartinMoyce) {
     ASSERT_FALSE(r.front.empty());
     EXPECT_NEAR(r.front.front().second, 1.0, 1e-6);  // Z starts at the column's width
     for (std::size_t k = 1; k < r.front.size(); ++k) EXPECT_GT(r.front[k].first, r.front[k - 1].first);
-    const double dev = front_deviation(r.front);
-    EXPECT_EQ(dev, r.front_deviation);
-    EXPECT_LT(dev, 0.2) << "mean relative deviation from Martin & Moyce over T in [1, 4]";
+    ASSERT_EQ(r.front_errors.size(), martin_moyce().size());
+    for (std::size_t k = 0; k < martin_moyce().size(); ++k) {
+        EXPECT_EQ(front_error(r.front, martin_moyce()[k]), r.front_errors[k]);
+        EXPECT_LT(r.front_errors[k], 0.2) << "a = " << martin_moyce()[k].a_inches << " in";
+    }
 }
 
-TEST(SimPhysics, FrontDeviationOfTheReferenceItselfIsZero) {
-    EXPECT_NEAR(front_deviation(martin_moyce()), 0.0, 1e-12);
-    std::vector<std::pair<double, double>> ahead;
-    for (const auto& [T, Z] : martin_moyce()) ahead.emplace_back(T, 1.1 * Z);
-    EXPECT_NEAR(front_deviation(ahead), 0.1, 1e-12);
-    EXPECT_THROW(front_deviation({{0, 1}, {2, 2}}), frnn::error);
+TEST(SimPhysics, MartinMoyceDataHoldsBothSeries) {
+    const auto& series = martin_moyce();
+    ASSERT_EQ(series.size(), 2u);
+    EXPECT_EQ(series[0].a_inches, 1.125);
+    EXPECT_EQ(series[1].a_inches, 2.25);
+    for (const auto& s : series) {
+        ASSERT_GE(s.points.size(), 10u);
+        EXPECT_NEAR(s.points.front().second, 1.2, 0.1);  // the front starts near Z = 1.2
+        for (std::size_t k = 1; k < s.points.size(); ++k) {
+            EXPECT_GT(s.points[k].first, s.points[k - 1].first);
+            EXPECT_GT(s.points[k].second, s.points[k - 1].second);  // the front only advances
+        }
+    }
+}
+
+TEST(SimPhysics, FrontErrorOfTheReferenceItselfIsZero) {
+    for (const auto& series : martin_moyce()) {
+        EXPECT_NEAR(front_error(series.points, series), 0.0, 1e-12);
+        std::vector<std::pair<double, double>> ahead;
+        for (const auto& [T, Z] : series.points) ahead.emplace_back(T, 1.1 * Z);
+        EXPECT_NEAR(front_error(ahead, series), 0.1, 1e-12);
+        // Only the points with T in the range count: a front 10% ahead there and 50% beyond.
+        std::vector<std::pair<double, double>> late;
+        for (const auto& [T, Z] : series.points) late.emplace_back(T, (T <= front_error_t_hi ? 1.1 : 1.5) * Z);
+        EXPECT_NEAR(front_error(late, series), 0.1, 1e-12);
+        EXPECT_THROW(front_error({{0, 1}, {2, 2}}, series), frnn::error);   // ends before T = 3
+        EXPECT_THROW(front_error(series.points, series, 20, 30), frnn::error);  // no point in range
+    }
 }

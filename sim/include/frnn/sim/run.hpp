@@ -47,7 +47,9 @@ struct run_result {
     double sim_time = 0, wall_seconds = 0, step_ms = 0;
     std::vector<std::pair<std::string, double>> stage_ms;  ///< mean ms per step by stage
     std::vector<std::pair<double, double>> front;           ///< (T, Z) when the scene records it
-    double front_deviation = -1;  ///< Martin & Moyce mean relative deviation over T in [1, 4]
+    /// Per series of martin_moyce() (same order): the front's error (front_error), when the
+    /// scene records the front and the run covers the T range; else empty.
+    std::vector<double> front_errors;
     bool finished = false;
     /// Under a load (run_options::load): the complete blocks of each kind and, when there are at
     /// least profiler::min_blocks of each, the medians of their ms per step without output.
@@ -60,12 +62,5 @@ run_result run(const std::string& scene_json, const std::string& origin, const s
                const run_options& options);
 /// Continues the run in `dir` from its last checkpoint, writing into the same directory.
 run_result resume(const std::string& dir, const run_options& options);
-
-/// Martin and Moyce (1952), collapse of a liquid column of width a and height 2a: (T, Z) with
-/// T = t sqrt(2 g / a) and Z = front / a.
-const std::vector<std::pair<double, double>>& martin_moyce();
-/// Mean over the reference points with T in [t_lo, t_hi] of |Z_sim - Z_ref| / Z_ref, Z_sim
-/// linearly interpolated in `front` (sorted by T). Throws when `front` does not cover them.
-double front_deviation(const std::vector<std::pair<double, double>>& front, double t_lo = 1, double t_hi = 4);
 
 }  // namespace frnn::sim
