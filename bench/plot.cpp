@@ -1,22 +1,13 @@
 // The PNG plot of report.hpp, drawn by gnuplot (Debian gnuplot-nox) in a child process.
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cmath>
-#include <cstdio>
-#include <cstdint>
-#include <cstring>
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <map>
 #include <tuple>
 
-#include "frnn/io/atomic_file.hpp"
 #include "frnn/bench/report.hpp"
 #include "frnn/error.hpp"
-
-extern char** environ;
+#include "frnn/io/gnuplot.hpp"
 
 namespace frnn::bench {
 namespace {
@@ -32,31 +23,9 @@ std::string style(const std::string& method, int threads) {
            std::to_string(std::min(threads, 5));
 }
 
-// gnuplot single-quoted string: a quote is written twice.
-std::string quoted(const std::string& text) {
-    std::string out = "'";
-    for (char ch : text) out += ch == '\'' ? std::string("''") : std::string(1, ch);
-    return out + "'";
-}
-
-// Runs `gnuplot script`; returns its exit status, or -1 (errno ENOENT) when it is not installed.
-int run_gnuplot(const std::string& script) {
-    const char* argv[] = {"gnuplot", script.c_str(), nullptr};
-    pid_t pid = 0;
-    const int err = posix_spawnp(&pid, "gnuplot", nullptr, nullptr, const_cast<char**>(argv), environ);
-    if (err != 0) {
-        errno = err;
-        return -1;
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) throw error("plot: waiting for gnuplot failed: " + std::string(std::strerror(errno)));
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
-
 // The gnuplot script: one data block per (workload, method, threads) series, one panel per
-// workload, log-log axes.
-std::string plot_script(const report& rep, const std::string& png) {
+// workload, log-log axes; the image size for that many panels.
+std::string plot_script(const report& rep, int& width, int& height) {
     // workload -> (method order, threads) -> (N, ns/particle) points
     using series_key = std::tuple<std::size_t, int, std::string>;
     std::map<std::string, std::map<series_key, std::map<std::size_t, double>>> panels;
@@ -68,16 +37,16 @@ std::string plot_script(const report& rep, const std::string& png) {
         }
     const std::size_t count = panels.size();
     const std::size_t cols = count > 1 ? 2 : 1, rows = (count + cols - 1) / cols;
+    width = int(720 * cols);
+    height = int(460 * rows);
 
-    std::string s = "set terminal pngcairo size " + std::to_string(720 * cols) + "," +
-                    std::to_string(460 * rows) + " font ',10'\n";
-    s += "set output " + quoted(png) + "\n";
+    std::string s;
     s += "set logscale xy\nset grid\nset key outside right top\n";
     s += "set xlabel 'N (points)'\nset ylabel 'ns per particle (build + lists)'\n";
     int block = 0;
     std::string plots;
     for (const auto& [workload, series] : panels) {
-        std::string panel = "set title " + quoted(workload + ": build + full neighbor lists") + "\n";
+        std::string panel = "set title " + io::gnuplot_quoted(workload + ": build + full neighbor lists") + "\n";
         // One size only: give the log axis a range around it (gnuplot refuses an empty one).
         std::size_t lo = SIZE_MAX, hi = 0;
         for (const auto& entry : series)
@@ -89,16 +58,10 @@ std::string plot_script(const report& rep, const std::string& png) {
             const auto& [order, threads, method] = key;
             const std::string label = method + " " + std::to_string(threads) + "t";
             const std::string name = "$s" + std::to_string(block++);
-            s += name + " << EOD\n";
-            for (const auto& [n, ns] : points) {
-                char line[96];
-                std::snprintf(line, sizeof line, "%zu %.6g\n", n, ns);
-                s += line;
-            }
-            s += "EOD\n";
+            s += io::gnuplot_data_block(name, {points.begin(), points.end()});
             items += std::string(items.empty() ? "plot " : ", ") + name +
                      " using 1:2 with linespoints lw 2 " + style(method, threads) +
-                     " title " + quoted(label);
+                     " title " + io::gnuplot_quoted(label);
         }
         plots += panel + items + "\n";
     }
@@ -114,24 +77,9 @@ bool write_plot(const report& rep, const std::string& png_path, std::string& why
     bool any = false;
     for (const auto& r : rep.rows) any = any || r.phase == "build+list";
     if (!any) throw error("plot: no build+list measurements to plot");
-    const std::string temp_png = io::temporary_path_beside(png_path).string() + ".png";
-    const std::string script_path = io::temporary_path_beside(png_path).string() + ".gp";
-    io::write_file_atomically(script_path, plot_script(rep, temp_png));
-    const int status = run_gnuplot(script_path);
-    const int spawn_errno = errno;
-    std::remove(script_path.c_str());
-    if (status == -1) {
-        why = "gnuplot not found (" + std::string(std::strerror(spawn_errno)) +
-              "): install Debian's gnuplot-nox to get " + png_path;
-        return false;
-    }
-    if (status != 0) {
-        std::remove(temp_png.c_str());
-        throw error("plot: gnuplot exited with status " + std::to_string(status) + " writing " +
-                    png_path);
-    }
-    io::commit_temporary(temp_png, png_path);
-    return true;
+    int width = 0, height = 0;
+    const std::string commands = plot_script(rep, width, height);
+    return io::draw_with_gnuplot(commands, width, height, png_path, why);
 }
 
 }  // namespace frnn::bench

@@ -18,6 +18,13 @@ struct command {
 
 std::vector<command>& commands();
 
+/// Thrown by a command to end the tool with `code` after printing `message` on stderr: for
+/// outcomes that are neither success (0) nor an error (1), such as `frnn validate`'s 3.
+struct exit_status {
+    int code;
+    std::string message;
+};
+
 struct register_command {
     register_command(std::string name, command_setup setup) {
         commands().push_back({std::move(name), std::move(setup)});

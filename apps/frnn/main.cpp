@@ -1,4 +1,5 @@
-// The frnn command-line tool. Exit codes: 0 success, 1 bad input or failure, 2 usage error.
+// The frnn command-line tool. Exit codes: 0 success, 1 bad input or failure, 2 usage error,
+// others as a command says (frnn::app::exit_status).
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "frnn: %s\n", e.what());
         return 2;
+    } catch (const frnn::app::exit_status& e) {
+        std::fprintf(stderr, "frnn: %s\n", e.message.c_str());
+        return e.code;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "frnn: error: %s\n", e.what());
         return 1;

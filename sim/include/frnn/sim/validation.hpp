@@ -1,0 +1,47 @@
+// Validation of the simulation against experiments and theory, at several resolutions: each
+// case runs its scenes, computes its error figures, and the figures are checked against the
+// committed tolerances (sim/data/validation-tolerances.json): the goals for the full run, the
+// coarsest resolution's measured error plus one percentage point for the quick run. What
+// `frnn validate` runs; its report (report.md with PNG plots, errors.json) goes to a folder.
+//
+// Cases: "dam-break" (2D WCSPH, the surge front against both series of Martin & Moyce 1952,
+// particle spacing a/25, a/50 and a/100; quick: a/25).
+// Thread safety: one validation per output folder; runs use `threads` threads of frnn's pool.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace frnn::sim {
+
+struct validation_options {
+    bool quick = false;           ///< the coarsest resolution of each case, with its tolerances
+    std::string out_dir;          ///< report.md, errors.json, plots and one folder per run
+    std::string tolerances_json;  ///< empty: the committed tolerances
+    int threads = 0;              ///< 0: all hardware threads
+    bool progress = true;         ///< one line per run on stderr
+};
+
+/// One error figure of a case, e.g. ("dam-break", "a/100, a = 2.25 in").
+struct validation_figure {
+    std::string case_name, name;
+    double value = 0;
+    std::optional<double> tolerance;  ///< passes when value <= tolerance; none: reported only
+    bool passed() const { return !tolerance || value <= *tolerance; }
+};
+
+struct validation_report {
+    std::vector<validation_figure> figures;
+    bool passed = true;  ///< every figure passed
+};
+
+/// The cases, in the order they run when none is named.
+std::vector<std::string> validation_cases();
+
+/// Runs `cases` (all when empty) and writes the report into options.out_dir (created). Throws
+/// frnn::error for an unknown case, a tolerances document that is not as described above (a
+/// tolerance naming no figure included), or a failed run. Figures outside their tolerance do
+/// not throw: the report says so.
+validation_report validate(const std::vector<std::string>& cases, const validation_options& options);
+
+}  // namespace frnn::sim

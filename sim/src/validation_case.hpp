@@ -1,0 +1,24 @@
+// What a validation case gives the driver (validation.cpp): its figures and its section of the
+// report. One file per case, validate_<case>.cpp.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace frnn::sim {
+
+struct case_context {
+    bool quick = false;
+    std::string dir;  ///< the case's folder inside the output folder (exists)
+    int threads = 0;
+    bool progress = true;
+};
+
+struct case_output {
+    std::vector<std::pair<std::string, double>> figures;  ///< (name, value)
+    std::string markdown;  ///< the case's section of report.md (plots relative to the output folder)
+};
+
+case_output validate_dam_break(const case_context& context);
+
+}  // namespace frnn::sim

@@ -1,0 +1,46 @@
+// `frnn validate`: exit 0 and a line per figure when every figure is within its tolerance, 3
+// when one is not (with the committed tolerances replaced by --tolerances), 2 for an unknown
+// case, 1 for a tolerances file that cannot be read.
+#include "cli/run_tool.hpp"
+
+#ifdef FRNN_TOOL_HAS_SIM
+#include <fstream>
+
+#include "text_lines.hpp"
+
+namespace frnn::test {
+namespace {
+
+TEST(cli_validate, quick_passes_then_fails_a_tighter_tolerance) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the sanitizer tree runs the quick case once, in SimValidation";
+#endif
+    const auto dir = fresh_dir();
+    const tool_result pass = run_tool(dir, "validate --quick --quiet --threads 2 --out ok");
+    ASSERT_EQ(pass.code, 0) << pass.err;
+    EXPECT_NE(line_starting(pass.out, "dam-break  a/25, a = 2.25 in").find(" pass"), std::string::npos) << pass.out;
+    EXPECT_TRUE(std::filesystem::exists(dir / "ok" / "report.md"));
+
+    std::ofstream(dir / "tight.json") << R"({"dam-break": {"quick": {"a/25, a = 1.125 in": 0.001}}})";
+    const tool_result fail = run_tool(dir, "validate dam-break --quick --quiet --threads 2 --out tight "
+                                           "--tolerances tight.json");
+    EXPECT_EQ(fail.code, 3) << fail.err;
+    EXPECT_NE(line_starting(fail.out, "dam-break  a/25, a = 1.125 in").find("FAIL"), std::string::npos) << fail.out;
+    EXPECT_NE(fail.err.find("some figures are outside their tolerance"), std::string::npos) << fail.err;
+}
+
+TEST(cli_validate, unknown_case_and_missing_tolerances) {
+    const auto dir = fresh_dir();
+    const tool_result unknown = run_tool(dir, "validate dam-brake --quick --out out");
+    EXPECT_EQ(unknown.code, 2);
+    EXPECT_NE(unknown.err.find("dam-brake"), std::string::npos) << unknown.err;
+    const tool_result missing = run_tool(dir, "validate --quick --out out --tolerances nowhere.json");
+    EXPECT_EQ(missing.code, 1);
+    EXPECT_NE(missing.err.find("cannot open tolerances file 'nowhere.json'"), std::string::npos) << missing.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+}  // namespace
+}  // namespace frnn::test
+
+#endif  // FRNN_TOOL_HAS_SIM
