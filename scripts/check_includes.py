@@ -15,6 +15,8 @@ CORE = r"frnn/(?!vulkan\.hpp|io/|sim/|bench/|mpi/)[a-z_]+(\.hpp|/[a-z_]+\.hpp)"
 VULKAN = r"frnn/vulkan\.hpp|frnn/grid\.glsl"
 MPI = r"frnn/mpi/[a-z_]+\.hpp"
 LOCAL = r'[a-z0-9_]+\.(hpp|glsl)'  # a header beside the file (quoted includes search there first)
+# frnn::io's file utilities (not its point readers and writers): atomic files, child programs, plots.
+IO_FILES = r"frnn/io/(atomic_file|child_process|gnuplot)\.hpp"
 
 # Folder -> what its quoted includes may name. Tests and examples may use everything.
 RULES = {
@@ -26,9 +28,9 @@ RULES = {
     "src/mpi": [CORE, MPI, r"mpi/.*"],
     # The Vulkan grid shares the CPU grid's policies: kind choice and cell rules.
     "src/vulkan": [CORE, VULKAN, r"core/(kind_policy|cell_rules)\.hpp", LOCAL],
-    "sim": [CORE, r"frnn/sim/.*", r"frnn/io/atomic_file\.hpp", LOCAL],
+    "sim": [CORE, r"frnn/sim/.*", IO_FILES, LOCAL],
     "python/src": [CORE, VULKAN, LOCAL],
-    "bench": [CORE, VULKAN, r"frnn/bench/.*", r"frnn/io/atomic_file\.hpp", r"frnn/sim/.*"],
+    "bench": [CORE, VULKAN, r"frnn/bench/.*", IO_FILES, r"frnn/sim/.*"],
     "apps": [CORE, VULKAN, r"frnn/(io|sim|bench)/.*", LOCAL],
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
