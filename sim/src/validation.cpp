@@ -25,7 +25,8 @@ using json = nlohmann::json;
 using case_runner = std::function<case_output(const case_context&)>;
 
 const std::vector<std::pair<std::string, case_runner>>& registry() {
-    static const std::vector<std::pair<std::string, case_runner>> cases = {{"dam-break", validate_dam_break}};
+    static const std::vector<std::pair<std::string, case_runner>> cases = {{"dam-break", validate_dam_break},
+                                                                                     {"hydrostatic", validate_hydrostatic}};
     return cases;
 }
 
@@ -65,10 +66,10 @@ std::string utc_now() {
 std::string figures_table(const std::vector<validation_figure>& figures) {
     std::string md = "| case | figure | value | tolerance | result |\n| --- | --- | ---: | ---: | --- |\n";
     for (const auto& f : figures) {
-        char row[320];
-        const std::string tol = f.tolerance ? std::to_string(*f.tolerance).substr(0, 6) : std::string("-");
-        std::snprintf(row, sizeof row, "| %s | %s | %.4f | %s | %s |\n", f.case_name.c_str(), f.name.c_str(), f.value,
-                      tol.c_str(), !f.tolerance ? "reported" : f.passed() ? "pass" : "**fail**");
+        char row[320], tolerance[32] = "-";
+        if (f.tolerance) std::snprintf(tolerance, sizeof tolerance, "%.4g", *f.tolerance);
+        std::snprintf(row, sizeof row, "| %s | %s | %.4g | %s | %s |\n", f.case_name.c_str(), f.name.c_str(), f.value,
+                      tolerance, !f.tolerance ? "reported" : f.passed() ? "pass" : "**fail**");
         md += row;
     }
     return md;

@@ -3,6 +3,7 @@
 // fails the report, and bad tolerances or cases are refused, before running where they can be.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -78,6 +79,25 @@ TEST(SimValidation, QuickDamBreakPassesAndWritesItsReport) {
     EXPECT_NE(md.find("](dam-break/front.png)"), std::string::npos);
 }
 
+TEST(SimValidation, QuickHydrostaticTankPasses) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the sanitizer tree runs the quick case once, in QuickDamBreakPassesAndWritesItsReport";
+#endif
+    const frnn::test::scratch_dir dir("validate_hydrostatic");
+    const validation_report report = validate({"hydrostatic"}, quick_into(dir));
+    // Slope, bottom pressure and speed, for 2D and 3D, each with a tolerance.
+    ASSERT_EQ(report.figures.size(), 6u);
+    for (const auto& f : report.figures) {
+        ASSERT_TRUE(f.tolerance.has_value()) << f.name;
+        EXPECT_TRUE(f.passed()) << f.name << " = " << f.value << ", tolerance " << *f.tolerance;
+        EXPECT_TRUE(std::isfinite(f.value)) << f.name;
+    }
+    EXPECT_TRUE(report.passed);
+    const std::string md = read_text(dir / "report.md");
+    EXPECT_NE(md.find("| 2D | H/20 |"), std::string::npos);
+    EXPECT_NE(md.find("| 3D | H/10 |"), std::string::npos);
+}
+
 TEST(SimValidation, FigureOutsideItsToleranceFailsTheReport) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "the sanitizer tree runs the quick case once, in QuickDamBreakPassesAndWritesItsReport";
@@ -113,7 +133,7 @@ TEST(SimValidation, ToleranceNamingNoFigureIsAnError) {
 TEST(SimValidation, BadInputIsRefusedBeforeRunning) {
     const frnn::test::scratch_dir dir("validate_bad");
     validation_options o = quick_into(dir);
-    EXPECT_NE(expect_error({"dam-brake"}, o).find("unknown case 'dam-brake' (cases: dam-break)"), std::string::npos);
+    EXPECT_NE(expect_error({"dam-brake"}, o).find("unknown case 'dam-brake' (cases: dam-break, hydrostatic)"), std::string::npos);
     o.tolerances_json = "{";
     EXPECT_NE(expect_error({}, o).find("not JSON"), std::string::npos);
     o.tolerances_json = R"({"dam-break": {"quick": {"a/25, a = 2.25 in": -1}}})";

@@ -5,7 +5,9 @@
 // `frnn validate` runs; its report (report.md with PNG plots, errors.json) goes to a folder.
 //
 // Cases: "dam-break" (2D WCSPH, the surge front against both series of Martin & Moyce 1952,
-// particle spacing a/25, a/50 and a/100; quick: a/25).
+// particle spacing a/25, a/50 and a/100; quick: a/25); "hydrostatic" (WCSPH water at rest in
+// a tank: pressure slope, bottom pressure and largest speed after settling, 2D at H/20, H/40,
+// H/80 and 3D at H/10, H/15, H/20; quick: H/20 and H/10).
 // Thread safety: one validation per output folder; runs use `threads` threads of frnn's pool.
 #pragma once
 #include <optional>

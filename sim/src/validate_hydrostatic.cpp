@@ -1,0 +1,128 @@
+// The hydrostatic validation case: water at rest in a tank (2D and 3D, depth H = 0.1 m, as
+// wide as deep), WCSPH with the shipped dam break's parameters, run for 1 s. Over the last 20%
+// of the run (every 10th step): the least-squares slope of pressure against depth below the
+// surface layers and the mean pressure of the bottom layer, against rho0 g and rho0 g H, and
+// the largest particle speed against 0.01 sqrt(g H). Particle spacing H/20, H/40, H/80 in 2D
+// and H/10, H/15, H/20 in 3D; quick: the coarsest of each.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "frnn/sim/profiler.hpp"
+#include "frnn/sim/scene.hpp"
+#include "frnn/sim/solver.hpp"
+#include "validation_case.hpp"
+
+namespace frnn::sim {
+
+namespace {
+
+constexpr double depth_H = 0.1, duration = 1.0, settled_from = 0.8;
+
+struct hydrostatic_result {
+    int dim = 2, k = 0;
+    std::size_t particles = 0;
+    std::uint64_t steps = 0;
+    double slope = 0;   // dp/d(depth) / (rho0 g), mean over the samples
+    double bottom = 0;  // bottom-layer pressure / (rho0 g H), mean over the samples
+    double speed = 0;   // largest speed / (0.01 sqrt(g H)) over the samples
+};
+
+std::string tank_scene(int dim, std::size_t particles) {
+    char text[1024];
+    std::snprintf(text, sizeof text, R"({"name": "hydrostatic", "solver": "sph", "dim": %d, "particles": %zu,
+      "duration": %g, "gravity": [0, -9.81, 0],
+      "domain": {"min": [0, 0, 0], "max": [%g, %g, %g]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [%g, %g, %g]}],
+      "colliders": [{"type": "box", "inside": true, "center": [%g, %g, %g], "half": [%g, %g, %g]}]})",
+                  dim, particles, duration, depth_H, 2 * depth_H, depth_H, depth_H, depth_H, depth_H, depth_H / 2,
+                  depth_H, depth_H / 2, depth_H / 2, depth_H, depth_H / 2);
+    std::string json = text;
+    // The solver parameters a user gets: the shipped dam break's.
+    const scene shipped = builtin_scene("dam-break");
+    scene s = parse_scene(json, "hydrostatic");
+    s.sph = shipped.sph;
+    return scene_to_json(s);
+}
+
+hydrostatic_result measure(int dim, int k, const case_context& context) {
+    hydrostatic_result r;
+    r.dim = dim;
+    r.k = k;
+    const std::size_t target = std::size_t(dim == 2 ? k * k : k * k * k);
+    const scene s = parse_scene(tank_scene(dim, target), "hydrostatic");
+    auto sol = make_solver(s, context.threads);
+    profiler prof;
+    const double rho0 = sol->rest_density(), g = 9.81;
+    const double bound = 0.01 * std::sqrt(g * depth_H);
+    int samples = 0;
+    while (sol->time() < duration) {
+        sol->step(prof);
+        if (sol->time() < settled_from || sol->steps() % 10) continue;
+        const particle_view v = sol->view();
+        const int up = 1;
+        double top = 0;
+        for (std::size_t i = 0; i < v.n; ++i) top = std::max(top, double(v.x[dim * i + up]));
+        top += sol->spacing() / 2;
+        // Below the layers whose kernel support the free surface cuts.
+        double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0, bottom = 0, in_bottom = 0, fastest = 0;
+        for (std::size_t i = 0; i < v.n; ++i) {
+            const double y = v.x[dim * i + up], depth = top - y;
+            double speed2 = 0;
+            for (int a = 0; a < dim; ++a) speed2 += double(v.v[dim * i + a]) * v.v[dim * i + a];
+            fastest = std::max(fastest, std::sqrt(speed2));
+            if (y < sol->spacing()) bottom += v.p[i], in_bottom += 1;
+            if (depth < 2 * sol->radius()) continue;
+            sx += depth, sy += v.p[i], sxx += depth * depth, sxy += depth * v.p[i], n += 1;
+        }
+        r.slope += (n * sxy - sx * sy) / (n * sxx - sx * sx) / (rho0 * g);
+        // The bottom layer's centres lie half a spacing above the floor.
+        r.bottom += bottom / in_bottom / (rho0 * g * (top - sol->spacing() / 2));
+        r.speed = std::max(r.speed, fastest / bound);
+        ++samples;
+    }
+    r.slope /= samples;
+    r.bottom /= samples;
+    r.particles = sol->view().n;
+    r.steps = sol->steps();
+    return r;
+}
+
+}  // namespace
+
+case_output validate_hydrostatic(const case_context& context) {
+    const std::vector<std::pair<int, std::vector<int>>> plan =
+        context.quick ? std::vector<std::pair<int, std::vector<int>>>{{2, {20}}, {3, {10}}}
+                      : std::vector<std::pair<int, std::vector<int>>>{{2, {20, 40, 80}}, {3, {10, 15, 20}}};
+    std::vector<hydrostatic_result> results;
+    for (const auto& [dim, spacings] : plan)
+        for (int k : spacings) {
+            if (context.progress) std::fprintf(stderr, "hydrostatic: %dD, spacing H/%d\n", dim, k);
+            results.push_back(measure(dim, k, context));
+        }
+
+    case_output out;
+    std::string& md = out.markdown;
+    md += "## Hydrostatic tank (WCSPH)\n\n";
+    md += "Water at rest in a tank as wide as it is deep (H = 0.1 m), WCSPH with the shipped dam break's "
+          "parameters, 1 s. Over the last 20% of the run: the slope of pressure against depth (below the "
+          "surface layers) over rho0 g, the bottom layer's pressure over rho0 g H, and the largest speed over "
+          "0.01 sqrt(g H). Errors are |ratio - 1|.\n\n";
+    md += "| dim | spacing | particles | steps | slope / rho0 g | bottom / rho0 g H | max speed / bound |\n";
+    md += "| --- | --- | ---: | ---: | ---: | ---: | ---: |\n";
+    for (const auto& r : results) {
+        const std::string at = std::to_string(r.dim) + "D H/" + std::to_string(r.k);
+        out.figures.emplace_back(at + ": slope error", std::abs(r.slope - 1));
+        out.figures.emplace_back(at + ": bottom pressure error", std::abs(r.bottom - 1));
+        out.figures.emplace_back(at + ": max speed over bound", r.speed);
+        char row[200];
+        std::snprintf(row, sizeof row, "| %dD | H/%d | %zu | %llu | %.4f | %.4f | %.3f |\n", r.dim, r.k, r.particles,
+                      (unsigned long long)r.steps, r.slope, r.bottom, r.speed);
+        md += row;
+    }
+    md += "\n";
+    return out;
+}
+
+}  // namespace frnn::sim
