@@ -178,19 +178,32 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
         auto wrapped = [&](int a, std::int64_t v) { return (v % geometry_.dims[a] + geometry_.dims[a]) % geometry_.dims[a]; };
         // A candidate wrapped from above sits at d - L: image -1; from below, +1.
         auto image_of = [&](int a, std::int64_t v) { return std::int8_t(v < 0 ? 1 : v >= geometry_.dims[a] ? -1 : 0); };
-        auto add = [&](std::uint32_t b, std::uint32_t e, const detail::run_image& image) {
+        // Runs merge only within a layer of cells (z in 3D, y in 2D): a sweep of a slab of
+        // layers sends each run's partner counts to one place, its own points or the next
+        // slab's, by where the run starts (partner_sink). With 2 reach + 1 cells on an axis the
+        // last row of one layer and the first of the next can both be in the half-stencil.
+        std::int64_t last_layer = -1;
+        auto add = [&](std::uint32_t b, std::uint32_t e, const detail::run_image& image, std::int64_t layer) {
+            if (b == e) return;
+            if (layer != last_layer) {
+                last_layer = layer;
+                if (images) images[n] = image;
+                out[n++] = {b, e};
+                return;
+            }
             if (images) append_imaged_run(out, images, n, b, e, image);
             else detail::append_run(out, n, b, e);
         };
         auto add_cells = [&](std::int64_t y, std::int64_t z, std::int64_t from, std::int64_t to) {
+            const std::int64_t layer = D == 3 ? wrapped(2, z) : wrapped(1, y);
             const auto row = std::int64_t(geometry_.slot_of_cell({0, wrapped(1, y), wrapped(2, z)}));
             const std::int64_t a = wrapped(0, from), b = wrapped(0, to);
             const std::int8_t iy = image_of(1, y), iz = D == 3 ? image_of(2, z) : std::int8_t(0);
             if (a <= b) {
-                add(offsets_[row + a], offsets_[row + b + 1], {image_of(0, from), iy, iz});
+                add(offsets_[row + a], offsets_[row + b + 1], {image_of(0, from), iy, iz}, layer);
             } else {
-                add(offsets_[row + a], offsets_[row + geometry_.dims[0]], {image_of(0, from), iy, iz});
-                add(offsets_[row], offsets_[row + b + 1], {image_of(0, to), iy, iz});
+                add(offsets_[row + a], offsets_[row + geometry_.dims[0]], {image_of(0, from), iy, iz}, layer);
+                add(offsets_[row], offsets_[row + b + 1], {image_of(0, to), iy, iz}, layer);
             }
         };
         add_cells(c[1], c[2], c[0], c[0] + k);  // own cell onwards
