@@ -58,6 +58,17 @@ public:
         p_.assign(n_, 0);
         id_.resize(n_);
         for (std::size_t i = 0; i < n_; ++i) id_[i] = std::uint32_t(i);
+        periodic_ = s.is_periodic();
+        if (periodic_) {
+            for (int a = 0; a < D; ++a) {
+                if (!(s.periodic[a] > 0))
+                    throw error("scene '" + s.name + "': periodic box: axis " + std::to_string(a) +
+                                " has no length; open axes in a periodic box are not supported yet, give every "
+                                "axis a length > 0");
+                box_[a] = float(s.periodic[a]);
+            }
+            wrap_into_box();
+        }
     }
 
     particle_view view() const override {
@@ -110,13 +121,17 @@ protected:
             grid_options o;
             o.kind = grid_kind::uniform;
             o.threads = threads_;
-            // A fixed domain (the scene's, padded) keeps the cell layout, and so the
-            // neighbor order, a function of the positions alone.
-            o.domain_min.resize(D);
-            o.domain_max.resize(D);
-            for (int a = 0; a < D; ++a) {
-                o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
-                o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
+            if (periodic_) {
+                for (int a = 0; a < D; ++a) o.periodic.push_back(box_[a]);
+            } else {
+                // A fixed domain (the scene's, padded) keeps the cell layout, and so the
+                // neighbor order, a function of the positions alone.
+                o.domain_min.resize(D);
+                o.domain_max.resize(D);
+                for (int a = 0; a < D; ++a) {
+                    o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
+                    o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
+                }
             }
             grid_.build(std::span<const float>(x_), float(radius), o);
             built_ = true;
@@ -125,8 +140,10 @@ protected:
         }
     }
 
-    /// Projects particles out of the colliders at time t and reflects their velocities.
+    /// The boundaries at time t: wraps positions into the periodic box, then projects
+    /// particles out of the colliders and reflects their velocities.
     void collide(profiler& prof, double t) {
+        if (periodic_) parallel_for(n_, threads_, prof, stage::collisions, [&](std::size_t i) { wrap_point(i); });
         if (colliders_.empty()) return;
         const auto posed = colliders_.at(t);
         const double margin = 0.5 * spacing_;
@@ -203,13 +220,27 @@ protected:
         read_vec(in, id_, n_);
     }
 
+    /// r = x_j - x_i (the minimum image in a periodic box, the grid's formula); returns |r|.
     float dist(std::size_t i, std::size_t j, float* r) const {
         float d2 = 0;
         for (int a = 0; a < D; ++a) {
             r[a] = x_[j * D + a] - x_[i * D + a];
+            if (periodic_) r[a] -= box_[a] * std::nearbyint(r[a] / box_[a]);
             d2 += r[a] * r[a];
         }
         return std::sqrt(d2);
+    }
+
+    /// Particle i's position moved into [0, L) on every axis of the periodic box.
+    void wrap_point(std::size_t i) {
+        for (int a = 0; a < D; ++a) {
+            float& x = x_[i * D + a];
+            x -= box_[a] * std::floor(x / box_[a]);
+            if (x >= box_[a]) x = 0;  // -tiny wraps to L after rounding
+        }
+    }
+    void wrap_into_box() {
+        for (std::size_t i = 0; i < n_; ++i) wrap_point(i);
     }
 
     scene scene_;
@@ -222,6 +253,8 @@ protected:
     std::vector<std::uint32_t> id_;
     grid<float, D> grid_;
     bool built_ = false;
+    bool periodic_ = false;
+    float box_[D] = {};  // periodic box lengths
     neighbor_table neighbors_;
 };
 

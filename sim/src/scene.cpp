@@ -243,6 +243,9 @@ scene parse_scene(const std::string& text, const std::string& origin) {
             if (s.domain_max[a] <= s.domain_min[a]) d.fail("domain.max", "expected max > min on every axis");
         d.finish();
     }
+    s.periodic = r.vector("periodic", s.periodic);
+    for (int a = 0; a < 3; ++a)
+        if (s.periodic[a] < 0) r.fail("periodic", "expected box lengths >= 0 (0: open), got " + j.at("periodic").dump());
     if (!r.has("fluid") || !j.at("fluid").is_array() || j.at("fluid").empty())
         r.fail("fluid", "expected a non-empty array of fluid blocks");
     for (std::size_t i = 0; i < j.at("fluid").size(); ++i) {
@@ -314,6 +317,7 @@ void apply(scene& s, const scene_overrides& o) {
     if (s.dim == 2) {
         for (auto& c : s.colliders) flatten_to_2d(c);
         s.gravity[2] = 0;
+        s.periodic[2] = 0;
         for (auto& b : s.fluid) b.velocity[2] = 0, b.center[2] = 0;
     }
 }

@@ -80,6 +80,7 @@ std::string scene_to_json(const scene& s) {
     if (s.steps > 0) j["steps"] = s.steps;
     j["gravity"] = vector_json(s.gravity);
     j["domain"] = {{"min", vector_json(s.domain_min)}, {"max", vector_json(s.domain_max)}};
+    if (s.is_periodic()) j["periodic"] = vector_json(s.periodic);
     j["fluid"] = json::array();
     for (const auto& b : s.fluid) j["fluid"].push_back(block_json(b));
     j["colliders"] = json::array();

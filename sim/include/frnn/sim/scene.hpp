@@ -90,6 +90,10 @@ struct scene {
     std::uint64_t steps = 0;      ///< > 0: run exactly this many steps instead
     vec3 gravity{0, -9.81, 0};
     vec3 domain_min{0, 0, 0}, domain_max{1, 1, 1};  ///< grid bounds and camera framing
+    /// Periodic box lengths: particles live in [0, L) on each axis, wrapped, and pair vectors
+    /// take the minimum image. All 0 (the default): open. Otherwise every axis of the scene's
+    /// dimension needs a length > 0 (open axes in a periodic box wait for the core's support).
+    vec3 periodic{0, 0, 0};
     std::vector<fluid_block> fluid;
     std::vector<collider> colliders;
     viscoelastic_params viscoelastic;
@@ -98,6 +102,7 @@ struct scene {
     output_params output;
 
     std::size_t target_particles() const { return dim == 2 ? particles_2d : particles_3d; }
+    bool is_periodic() const { return periodic[0] > 0 || periodic[1] > 0 || periodic[2] > 0; }
 };
 
 /// Parses a scene; `origin` (a file name) prefixes error messages.
