@@ -86,6 +86,17 @@ void sim_runner::set_gravity(const sim::vec3& g) {
     send([g](sim::simulation& s) { s.set_gravity(g); });
 }
 
+void sim_runner::set_colliders(std::vector<sim::collider> list, std::optional<std::size_t> held) {
+    send([this, list = std::move(list), held](sim::simulation& s) mutable {
+        if (held && *held < list.size()) {
+            list[*held] = hand_.follow(list[*held], s.time());
+        } else {
+            hand_.release();
+        }
+        s.set_colliders(std::move(list));
+    });
+}
+
 void sim_runner::set_time_scale(double s) { time_scale_ = s; }
 
 void sim_runner::run_steps(int n) {

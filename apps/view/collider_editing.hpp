@@ -1,0 +1,42 @@
+// Colliders by hand, the geometry of it: which collider is under the pointer, where a drag
+// puts it, a turn about the view direction, and the sphere or box the panel adds. No OpenGL and
+// no window: the viewer calls these with the camera's ray (picking.hpp).
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "frnn/sim/scene.hpp"
+#include "picking.hpp"
+#include "scene_lines.hpp"
+
+namespace frnn::view {
+
+/// The turn of one press of `[` (counterclockwise as seen) or `]` (clockwise), in degrees.
+inline constexpr double rotate_step_degrees = 15;
+
+/// How near, in pixels, the pointer must come to a collider's outline to pick it.
+inline constexpr float outline_pick_pixels = 5;
+
+/// The index of the nearest collider of `s` (posed at time t) under the ray: an obstacle sphere
+/// or box where the ray meets its solid, any collider (containers and planes too) where the
+/// ray passes within outline_pick_pixels of its drawn outline (scene_lines.hpp). None if
+/// nothing is there.
+std::optional<std::size_t> pick_collider(const sim::scene& s, double t, const pointer_ray& ray);
+
+/// The outline of collider `selected` of `s` at time t, highlighted; empty when none.
+std::vector<line_vertex> selection_outline(const sim::scene& s, double t, std::optional<std::size_t> selected);
+
+/// Where the ray meets the plane through `point` with normal `normal`; none when it runs
+/// parallel to it.
+std::optional<sim::vec3> on_plane(const pointer_ray& ray, const sim::vec3& point, const vec3f& normal);
+
+/// `c` turned by `radians` about `axis` (unit length, through its center), right-handed: the
+/// new orientation is the turn applied after the collider's own (axis, angle).
+sim::collider turned(sim::collider c, const sim::vec3& axis, double radians);
+
+/// A new obstacle of `kind` (sphere or box) centered at `at`, a tenth of the domain's smallest
+/// side in radius (half side), named "<kind> N" with N free in `s`; flattened in a 2D scene.
+sim::collider new_collider(sim::shape kind, const sim::scene& s, sim::vec3 at);
+
+}  // namespace frnn::view
