@@ -5,6 +5,7 @@
 
 #include "frnn/error.hpp"
 #include "frnn/parallel.hpp"
+#include "median.hpp"
 
 namespace frnn::view {
 namespace {
@@ -137,6 +138,11 @@ double sim_runner::mean_copy_ms() const {
     return copies_ ? 1e3 * copy_seconds_ / double(copies_) : 0;
 }
 
+double sim_runner::median_step_ms() const {
+    std::lock_guard lock(mutex_);
+    return median(step_ms_);
+}
+
 sim_runner::stage_times sim_runner::recent_stage_ms() const {
     std::lock_guard lock(mutex_);
     return stage_ms_;
@@ -259,6 +265,7 @@ void sim_runner::loop() {
                 std::lock_guard lock(mutex_);
                 step_seconds_ += dt;
                 ++timed_steps_;
+                step_ms_.push_back(1e3 * dt);
             }
             if (stepped) {
                 try {

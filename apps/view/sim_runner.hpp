@@ -75,6 +75,8 @@ public:
     /// Mean wall milliseconds per step and per snapshot copy since the start.
     double mean_step_ms() const;
     double mean_copy_ms() const;
+    /// The median wall milliseconds of the steps since the start (0 before any).
+    double median_step_ms() const;
 
     /// Milliseconds per step of each solver stage (sim::stage), averaged over about the last
     /// 20 steps (exponentially), for the panel's live timing bar; zeros before the first step.
@@ -111,6 +113,7 @@ private:
     std::string error_;
     double step_seconds_ = 0, copy_seconds_ = 0;
     std::uint64_t timed_steps_ = 0, copies_ = 0;
+    std::vector<double> step_ms_;  // every step's, for the median; under mutex_
     stage_times stage_ms_{};          // under mutex_
     std::string capture_status_;      // under mutex_
     int capture_left_ = 0;            // simulation thread only

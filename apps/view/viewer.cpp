@@ -17,6 +17,7 @@
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
 #include "line_renderer.hpp"
+#include "median.hpp"
 #include "particle_renderer.hpp"
 #include "collider_editing.hpp"
 #include "picking.hpp"
@@ -477,11 +478,13 @@ void viewer::frame() {
 
 int viewer::run() {
     while (!glfwWindowShouldClose(window_)) {
+        const auto t_frame = clock_type::now();
         frame();
         ++frame_;
         const bool last = opt_.frames > 0 && frame_ >= opt_.frames;
         if (last && !opt_.screenshot_file.empty()) save_screenshot(opt_.screenshot_file);
         glfwSwapBuffers(window_);
+        if (opt_.timing) frame_ms_.push_back(1e3 * seconds_since(t_frame));
         if (last || !script_error_.empty()) break;
     }
     runner_->set_playing(false);
@@ -493,6 +496,9 @@ int viewer::run() {
                     "upload %.2f ms/frame, drawing %.2f ms/frame\n",
                     snapshot_.n, timed_frames_, runner_->mean_step_ms(), runner_->mean_copy_ms(),
                     1e3 * upload_seconds_ / double(timed_frames_), 1e3 * draw_seconds_ / double(timed_frames_));
+    if (opt_.timing && !frame_ms_.empty())
+        std::printf("frnn-view: median frame %.2f ms (%zu frames), median step %.2f ms\n", median(frame_ms_), frame_ms_.size(),
+                    runner_->median_step_ms());
     if (!script_error_.empty()) {
         std::fprintf(stderr, "frnn-view: error: %s\n", script_error_.c_str());
         return 1;

@@ -175,6 +175,7 @@ private:
     long frames_in_step_ = 0, max_frames_in_step_ = 0;
     double upload_seconds_ = 0, draw_seconds_ = 0, wait_seconds_ = 0;
     long timed_frames_ = 0;
+    std::vector<double> frame_ms_;  // --timing: each frame's wall time, swap included
     std::string script_error_;
 
     // Profiling: drawing time per frame (averaged like the stages'), steps per second over
