@@ -38,7 +38,8 @@ float solid_entry(const sim::posed_collider& p, const pointer_ray& ray) {
         if (t0 > t1) std::swap(t0, t1);
         enter = std::max(enter, t0), leave = std::min(leave, t1);
     }
-    return enter <= leave && enter > 0 ? enter : none;
+    // From inside (a 2D box is unbounded in z, so the plane view's rays start in it): at once.
+    return enter <= leave && leave > 0 ? std::max(enter, 0.f) : none;
 }
 
 /// Distance along the ray to the point nearest a segment of the outline within the pick
@@ -123,7 +124,9 @@ sim::collider new_collider(sim::shape kind, const sim::scene& s, sim::vec3 at) {
     for (int a = 0; a < s.dim; ++a) side = std::min(side, s.domain_max[a] - s.domain_min[a]);
     c.radius = 0.1 * side;
     c.half = {c.radius, c.radius, c.radius};
-    c.center = at;
+    // Near the top, where the fluid seldom is: one dropped into the fluid would throw the
+    // particles inside it to its surface in one step.
+    c.center = {at[0], s.domain_max[1] - 1.5 * c.radius, at[2]};
     const std::string base = kind == sim::shape::sphere ? "sphere " : "box ";
     for (int n = 1;; ++n) {
         c.name = base + std::to_string(n);

@@ -35,8 +35,9 @@ std::optional<sim::vec3> on_plane(const pointer_ray& ray, const sim::vec3& point
 /// new orientation is the turn applied after the collider's own (axis, angle).
 sim::collider turned(sim::collider c, const sim::vec3& axis, double radians);
 
-/// A new obstacle of `kind` (sphere or box) centered at `at`, a tenth of the domain's smallest
-/// side in radius (half side), named "<kind> N" with N free in `s`; flattened in a 2D scene.
+/// A new obstacle of `kind` (sphere or box) of radius (half side) r, a tenth of the domain's
+/// smallest side, at `at` in x and z and 1.5 r below the domain's top in y; named "<kind> N"
+/// with N free in `s`; flattened in a 2D scene.
 sim::collider new_collider(sim::shape kind, const sim::scene& s, sim::vec3 at);
 
 }  // namespace frnn::view

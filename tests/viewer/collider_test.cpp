@@ -30,10 +30,12 @@ const char* ball_scene = R"({"name": "ball", "dim": 3, "particles": 4000, "solve
 const v3 target{0.5, 0.2, 0.25};
 const std::string camera = R"({"frame": 0, "do": "camera", "target": [0.5, 0.2, 0.25], "distance": 1.6, "yaw": 0, "pitch": 30, "fov": 45})";
 
-/// Runs the ball scene with these actions (after the camera's) for `frames` frames.
-nlohmann::json run_ball(const scratch_dir& dir, const std::string& actions, int frames, const std::string& scene = ball_scene) {
+/// Runs a scene (the ball's) with these actions after a first one (the camera's) for `frames`
+/// frames.
+nlohmann::json run_ball(const scratch_dir& dir, const std::string& actions, int frames, const std::string& scene = ball_scene,
+                        const std::string& first = camera) {
     write_text(dir / "ball.json", scene);
-    write_text(dir / "script.json", R"({"steps_per_frame": 2, "actions": [)" + camera + actions + "]}");
+    write_text(dir / "script.json", R"({"steps_per_frame": 2, "actions": [)" + first + actions + "]}");
     const auto r = run_viewer(dir, "ball.json --script script.json --frames " + std::to_string(frames) + " --state state.json");
     EXPECT_EQ(r.code, 0) << r.err;
     return read_json(dir / "state.json");
@@ -121,6 +123,32 @@ TEST(ViewerColliders, DragPutsTheSphereUnderThePointerAndSweepsTheFluid) {
     EXPECT_GT(shift / double(swept), spacing);
 }
 
+TEST(ViewerColliders, PlaneViewDragMovesABoxInTheXyPlane) {
+    const scratch_dir dir("viewer_collider_drag_2d");
+    const std::string scene = R"({"name": "block", "dim": 2, "particles": 1500, "solver": "viscoelastic",
+      "domain": {"min": [0, 0, 0], "max": [1, 0.6, 1]}, "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.25, 1]}],
+      "colliders": [{"name": "block", "type": "box", "center": [0.3, 0.45, 0], "half": [0.06, 0.04, 0.06]}],
+      "viscoelastic": {"dt": 0.002, "cfl": 0}})";
+    const std::string play = R"({"frame": 0, "do": "play"})";  // the plane view as it opens
+    const auto still = run_ball(dir, "", 2, scene, play);
+    // The plane view: the target at the viewport's center, vp[3] / (2 half_height) pixels a unit.
+    const auto& cam = still.at("camera");
+    const std::array<int, 4> vp = cam.at("viewport");
+    const v3 view_target = cam.at("target");
+    const double scale = vp[3] / (2 * cam.at("half_height").get<double>());
+    const int height = cam.at("height");
+    const auto pixel = [&](double x, double y) {
+        return pixel_xy{vp[0] + 0.5 * vp[2] + (x - view_target[0]) * scale, height - (vp[1] + 0.5 * vp[3] + (y - view_target[1]) * scale)};
+    };
+    const pixel_xy a = pixel(0.3, 0.45), b{a.x + 150, a.y + 40};
+    const v3 expected{0.3 + 150 / scale, 0.45 - 40 / scale, 0};
+    const auto moved = run_ball(dir, R"(, {"frame": 3, "do": "drag", "from": )" + at(a) + R"(, "to": )" + at(b) + R"(, "frames": 8})", 16,
+                                scene, play);
+    EXPECT_EQ(moved.at("selected_collider"), 0);
+    EXPECT_LT(distance(moved.at("colliders")[0].at("center"), expected), 0.5 * moved.at("spacing").get<double>())
+        << moved.at("colliders")[0].dump();
+}
+
 TEST(ViewerColliders, HeldSphereMovesAtItsDisplacementOverTheStepsInBetween) {
     const scratch_dir dir("viewer_collider_velocity");
     const auto still = run_ball(dir, "", 2);
@@ -184,7 +212,7 @@ TEST(ViewerColliders, AddDeleteAndSaveSceneRoundTrip) {
     const scratch_dir dir("viewer_collider_save");
     const auto still = run_ball(dir, "", 2);
     const view cam(still);
-    // Add a sphere and a box (each at the view's target, selected), delete the box, select the
+    // Add a sphere and a box (each under the view's target, selected), delete the box, select the
     // ball by a click and delete it too, then save.
     const auto edited = run_ball(dir, R"(, {"frame": 2, "do": "add_collider", "type": "sphere"},
         {"frame": 3, "do": "add_collider", "type": "box"}, {"frame": 4, "do": "delete_collider"})" +
@@ -197,7 +225,10 @@ TEST(ViewerColliders, AddDeleteAndSaveSceneRoundTrip) {
     EXPECT_EQ(c[0].at("name"), "tank");
     EXPECT_EQ(c[1].at("name"), "brick");
     EXPECT_EQ(c[2].at("type"), "sphere");
-    EXPECT_LT(distance(c[2].at("center"), target), 1e-6);
+    // Under the view's target, 1.5 radii below the top (0.6) of the domain, its radius a tenth
+    // of its smallest side (0.5).
+    EXPECT_EQ(c[2].at("radius"), 0.05);
+    EXPECT_LT(distance(c[2].at("center"), {target[0], 0.6 - 1.5 * 0.05, target[2]}), 1e-6);
 
     // The saved scene, run again, has the same colliders.
     write_text(dir / "script.json", R"({"steps_per_frame": 0, "actions": []})");
