@@ -117,16 +117,65 @@ sim::collider turned(sim::collider c, const sim::vec3& axis, double radians) {
     return c;
 }
 
-sim::collider new_collider(sim::shape kind, const sim::scene& s, sim::vec3 at) {
+sim::vec3 free_spot(const sim::scene& s, const std::vector<float>& x, const sim::vec3& at, double reach, double clearance) {
+    // Particles binned by cubes of side `clearance` (counting sort), so a candidate looks at the
+    // particles of its cube and the 26 around it only; candidates every quarter of a cube.
+    const int dims = s.dim;
+    std::array<int, 3> n{1, 1, 1};
+    for (int a = 0; a < dims; ++a) n[a] = std::max(1, int(std::ceil((s.domain_max[a] - s.domain_min[a]) / clearance)));
+    const auto cell_of = [&](int a, double v) {
+        return a < dims ? std::clamp(int(std::floor((v - s.domain_min[a]) / clearance)), 0, n[a] - 1) : 0;
+    };
+    const auto index = [&](int i, int j, int k) { return (std::size_t(k) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[0]) + std::size_t(i); };
+    const std::size_t cells = std::size_t(n[0]) * std::size_t(n[1]) * std::size_t(n[2]), count = x.size() / 3;
+    std::vector<std::size_t> start(cells + 1, 0), order(count);
+    const auto cell_of_particle = [&](std::size_t p) { return index(cell_of(0, x[p * 3]), cell_of(1, x[p * 3 + 1]), cell_of(2, x[p * 3 + 2])); };
+    for (std::size_t p = 0; p < count; ++p) ++start[cell_of_particle(p) + 1];
+    for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t p = 0; p < count; ++p) order[fill[cell_of_particle(p)]++] = p;
+
+    const auto free_at = [&](const sim::vec3& c) {
+        const int ci = cell_of(0, c[0]), cj = cell_of(1, c[1]), ck = cell_of(2, c[2]);
+        for (int k = std::max(ck - 1, 0); k <= std::min(ck + 1, n[2] - 1); ++k)
+            for (int j = std::max(cj - 1, 0); j <= std::min(cj + 1, n[1] - 1); ++j)
+                for (int i = std::max(ci - 1, 0); i <= std::min(ci + 1, n[0] - 1); ++i)
+                    for (std::size_t q = start[index(i, j, k)]; q < start[index(i, j, k) + 1]; ++q) {
+                        const std::size_t p = order[q];
+                        double d2 = 0;
+                        for (int a = 0; a < 3; ++a) d2 += (x[p * 3 + std::size_t(a)] - c[a]) * (x[p * 3 + std::size_t(a)] - c[a]);
+                        if (d2 < clearance * clearance) return false;
+                    }
+        return true;
+    };
+    std::array<int, 3> steps{1, 1, 1};
+    for (int a = 0; a < dims; ++a) steps[a] = int(std::floor((s.domain_max[a] - s.domain_min[a] - 2 * reach) / (0.25 * clearance))) + 1;
+    sim::vec3 best = at;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < steps[2]; ++k)
+        for (int j = 0; j < steps[1]; ++j)
+            for (int i = 0; i < steps[0]; ++i) {
+                const int c[3] = {i, j, k};
+                sim::vec3 center{0, 0, 0};
+                for (int a = 0; a < dims; ++a) center[a] = s.domain_min[a] + reach + c[a] * 0.25 * clearance;
+                double d2 = 0;
+                for (int a = 0; a < 3; ++a) d2 += (center[a] - at[a]) * (center[a] - at[a]);
+                if (d2 < best_d2 && free_at(center)) best_d2 = d2, best = center;
+            }
+    return best;
+}
+
+sim::collider new_collider(sim::shape kind, const sim::scene& s, const sim::vec3& at, const std::vector<float>& particles,
+                           double spacing) {
     sim::collider c;
     c.kind = kind;
     double side = std::numeric_limits<double>::infinity();
     for (int a = 0; a < s.dim; ++a) side = std::min(side, s.domain_max[a] - s.domain_min[a]);
     c.radius = 0.1 * side;
     c.half = {c.radius, c.radius, c.radius};
-    // Near the top, where the fluid seldom is: one dropped into the fluid would throw the
-    // particles inside it to its surface in one step.
-    c.center = {at[0], s.domain_max[1] - 1.5 * c.radius, at[2]};
+    // A box's corners reach sqrt(dim) half sides from its center.
+    const double reach = kind == sim::shape::box ? c.radius * std::sqrt(double(s.dim)) : c.radius;
+    c.center = free_spot(s, particles, at, reach, reach + spacing);
     const std::string base = kind == sim::shape::sphere ? "sphere " : "box ";
     for (int n = 1;; ++n) {
         c.name = base + std::to_string(n);

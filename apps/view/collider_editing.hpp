@@ -35,9 +35,16 @@ std::optional<sim::vec3> on_plane(const pointer_ray& ray, const sim::vec3& point
 /// new orientation is the turn applied after the collider's own (axis, angle).
 sim::collider turned(sim::collider c, const sim::vec3& axis, double radians);
 
-/// A new obstacle of `kind` (sphere or box) of radius (half side) r, a tenth of the domain's
-/// smallest side, at `at` in x and z and 1.5 r below the domain's top in y; named "<kind> N"
-/// with N free in `s`; flattened in a 2D scene.
-sim::collider new_collider(sim::shape kind, const sim::scene& s, sim::vec3 at);
+/// The point nearest `at` that has no particle (x: 3 floats each) within `clearance` and lies
+/// `reach` or more inside the domain on every axis (z = 0 in 2D); `at` when there is none.
+/// O(particles + domain volume / clearance^3).
+sim::vec3 free_spot(const sim::scene& s, const std::vector<float>& x, const sim::vec3& at, double reach, double clearance);
+
+/// A new obstacle of `kind` (sphere or box), its radius (half side) r a tenth of the domain's
+/// smallest side, at the free spot nearest `at` with a particle spacing of room around it
+/// (dropped into the fluid it would throw the particles inside it to its surface in one step,
+/// which the solvers seldom survive); named "<kind> N" with N free in `s`; flattened in 2D.
+sim::collider new_collider(sim::shape kind, const sim::scene& s, const sim::vec3& at, const std::vector<float>& particles,
+                           double spacing);
 
 }  // namespace frnn::view

@@ -71,7 +71,7 @@ void viewer::send_colliders(bool held) {
 
 void viewer::add_collider(sim::shape kind) {
     const vec3f t = cam_.target();
-    scene_.colliders.push_back(new_collider(kind, scene_, {t[0], t[1], t[2]}));
+    scene_.colliders.push_back(new_collider(kind, scene_, {t[0], t[1], t[2]}, snapshot_.x, snapshot_.spacing));
     selected_collider_ = scene_.colliders.size() - 1;
     holding_collider_ = false;
     scene_changed_ = true;
@@ -99,7 +99,8 @@ void viewer::rotate_collider(double degrees) {
 }
 
 void viewer::draw_colliders() {
-    ImGui::TextDisabled("colliders: click to select, drag to move (Shift: along the view), [ ] rotate");
+    ImGui::TextDisabled("colliders: click selects, drag moves,");
+    ImGui::TextDisabled("Shift+drag: along the view, [ ]: rotate");
     for (std::size_t k = 0; k < scene_.colliders.size(); ++k) {
         const sim::collider& c = scene_.colliders[k];
         char label[160];
@@ -113,7 +114,6 @@ void viewer::draw_colliders() {
     if (!selected_collider_) return;
     ImGui::SameLine();
     if (panel_button("Delete")) delete_collider();
-    ImGui::SameLine();
     if (panel_button("Rotate +15")) rotate_collider(rotate_step_degrees);
     ImGui::SameLine();
     if (panel_button("Rotate -15")) rotate_collider(-rotate_step_degrees);

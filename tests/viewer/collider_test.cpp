@@ -27,7 +27,6 @@ const char* ball_scene = R"({"name": "ball", "dim": 3, "particles": 4000, "solve
                 {"name": "brick", "type": "box", "center": [0.75, 0.42, 0.25], "half": [0.08, 0.04, 0.06],
                  "axis": [1, 1, 0], "angle": 20}],
   "viscoelastic": {"dt": 0.002, "cfl": 0}})";
-const v3 target{0.5, 0.2, 0.25};
 const std::string camera = R"({"frame": 0, "do": "camera", "target": [0.5, 0.2, 0.25], "distance": 1.6, "yaw": 0, "pitch": 30, "fov": 45})";
 
 /// Runs a scene (the ball's) with these actions after a first one (the camera's) for `frames`
@@ -212,9 +211,9 @@ TEST(ViewerColliders, AddDeleteAndSaveSceneRoundTrip) {
     const scratch_dir dir("viewer_collider_save");
     const auto still = run_ball(dir, "", 2);
     const view cam(still);
-    // Add a sphere and a box (each under the view's target, selected), delete the box, select the
-    // ball by a click and delete it too, then save.
-    const auto edited = run_ball(dir, R"(, {"frame": 2, "do": "add_collider", "type": "sphere"},
+    // Paused: add a sphere and a box (each selected), delete the box, select the ball by a
+    // click and delete it too, then save.
+    const auto edited = run_ball(dir, R"(, {"frame": 1, "do": "pause"}, {"frame": 2, "do": "add_collider", "type": "sphere"},
         {"frame": 3, "do": "add_collider", "type": "box"}, {"frame": 4, "do": "delete_collider"})" +
                                           click(5, cam.pixel(still.at("colliders")[0].at("center"))) +
                                           R"(, {"frame": 7, "do": "delete_collider"}, {"frame": 8, "do": "save_scene", "path": "saved.json"})",
@@ -225,10 +224,17 @@ TEST(ViewerColliders, AddDeleteAndSaveSceneRoundTrip) {
     EXPECT_EQ(c[0].at("name"), "tank");
     EXPECT_EQ(c[1].at("name"), "brick");
     EXPECT_EQ(c[2].at("type"), "sphere");
-    // Under the view's target, 1.5 radii below the top (0.6) of the domain, its radius a tenth
-    // of its smallest side (0.5).
-    EXPECT_EQ(c[2].at("radius"), 0.05);
-    EXPECT_LT(distance(c[2].at("center"), {target[0], 0.6 - 1.5 * 0.05, target[2]}), 1e-6);
+    // Its radius a tenth of the domain's smallest side (0.5), inside the domain, with a
+    // particle spacing of room around it (the particles have not moved since: paused).
+    const double radius = c[2].at("radius"), spacing = edited.at("spacing");
+    EXPECT_EQ(radius, 0.05);
+    const v3 center = c[2].at("center"), hi{1, 0.6, 0.5};
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_GE(center[a], radius - 1e-9);
+        EXPECT_LE(center[a], hi[a] - radius + 1e-9);
+    }
+    for (std::size_t k = 0; k < edited.at("particles").get<std::size_t>(); ++k)
+        ASSERT_GE(distance(particle(edited, k), center), radius + spacing) << "particle " << k;
 
     // The saved scene, run again, has the same colliders.
     write_text(dir / "script.json", R"({"steps_per_frame": 0, "actions": []})");
