@@ -16,10 +16,10 @@
 #include "frnn/io/atomic_file.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
+#include "collider_editing.hpp"
 #include "line_renderer.hpp"
 #include "median.hpp"
 #include "particle_renderer.hpp"
-#include "collider_editing.hpp"
 #include "picking.hpp"
 
 namespace frnn::view {
