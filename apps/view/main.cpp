@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
     app.add_option("--height", o.height, "Window height in pixels")->check(CLI::Range(240, 8192));
     app.add_option("--slow-step-ms", o.slow_step_ms, "Testing: sleep this long before every step")->check(CLI::Range(0.0, 60000.0));
     app.add_flag("--paused", o.paused, "Start paused");
-    app.add_flag("--timing", o.timing, "Print mean simulation, copy, upload and drawing times at the end");
+    app.add_flag("--timing", o.timing, "Print mean simulation, copy, upload and drawing times and the median frame and step at the end");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -17,7 +17,7 @@ struct view_options {
     int width = 1280, height = 720;
     double slow_step_ms = 0;  ///< test hook: every step sleeps this long first
     bool paused = false;      ///< start paused
-    bool timing = false;      ///< finish each frame (glFinish) and print mean times at the end
+    bool timing = false;      ///< finish each frame (glFinish) and print mean and median times at the end
 };
 
 }  // namespace frnn::view

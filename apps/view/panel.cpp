@@ -88,18 +88,20 @@ void viewer::draw_parameters() {
     }
 }
 
+bool viewer::panel_button(const char* label) {
+    const bool pressed = ImGui::Button(label);
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    buttons_[label] = {a.x, a.y, b.x, b.y};  // where the `button` script action clicks
+    return pressed;
+}
+
 void viewer::draw_panel() {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
     ImGui::SetNextWindowPos(ImVec2(float(w) - panel_width, 0), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(panel_width, float(h)), ImGuiCond_Always);
     ImGui::Begin("frnn view", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-    const auto button = [&](const char* label) {
-        const bool pressed = ImGui::Button(label);
-        const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-        buttons_[label] = {a.x, a.y, b.x, b.y};
-        return pressed;
-    };
+    const auto button = [&](const char* label) { return panel_button(label); };
 
     ImGui::Text("%s: %s %dD, %zu particles", scene_.name.c_str(), sim::to_string(scene_.solver).c_str(), scene_.dim, snapshot_.n);
     ImGui::Text("step %llu, t = %.4f s, %.0f fps", (unsigned long long)snapshot_.step, snapshot_.time, double(ImGui::GetIO().Framerate));
@@ -197,6 +199,9 @@ void viewer::draw_panel() {
         start_recording(record_dir_);
     }
     if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
+
+    ImGui::Separator();
+    draw_colliders();
 
     ImGui::Separator();
     draw_profile();

@@ -65,10 +65,7 @@ void viewer::draw_profile() {
     char path[512];
     std::snprintf(path, sizeof path, "%s", profile_path_.c_str());
     if (ImGui::InputText("trace", path, sizeof path)) profile_path_ = path;
-    const bool pressed = ImGui::Button("Capture profile");
-    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-    buttons_["Capture profile"] = {a.x, a.y, b.x, b.y};
-    if (pressed) capture_profile(profile_steps_, profile_path_);
+    if (panel_button("Capture profile")) capture_profile(profile_steps_, profile_path_);
     const std::string status = runner_->capture_status();
     if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
 }

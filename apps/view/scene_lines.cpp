@@ -51,6 +51,45 @@ void circle(line_list& lines, const sim::posed_collider& p, int axis_u, int axis
 
 }  // namespace
 
+double scene_size(const sim::scene& s) {
+    vec3 extent{};
+    for (int a = 0; a < 3; ++a) extent[a] = s.domain_max[a] - s.domain_min[a];
+    return std::sqrt(extent[0] * extent[0] + extent[1] * extent[1] + (s.dim == 2 ? 0 : extent[2] * extent[2]));
+}
+
+void collider_lines(std::vector<line_vertex>& out, const sim::posed_collider& p, bool flat, double size,
+                    const std::array<float, 3>& color) {
+    line_list colliders{out, color};
+    const sim::collider& c = p.desc();
+    if (c.kind == sim::shape::box) {
+        box_edges(colliders, flat, [&](int i, int j, int k) {
+            return p.to_world({i * c.half[0], j * c.half[1], flat ? 0.0 : k * c.half[2]});
+        });
+    } else if (c.kind == sim::shape::sphere) {
+        circle(colliders, p, 0, 1, c.radius);
+        if (!flat) circle(colliders, p, 1, 2, c.radius), circle(colliders, p, 0, 2, c.radius);
+    } else {
+        // A square of the domain's size in the plane, centered on the plane's point.
+        const vec3 o = p.to_world({0, 0, 0});
+        vec3 n{};
+        p.phi(o, n);
+        vec3 u = std::abs(n[2]) < 0.9 ? vec3{-n[1], n[0], 0} : vec3{1, 0, 0};  // in the plane
+        const double ul = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        for (double& x : u) x /= ul;
+        const vec3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+        const double h = 0.5 * size;
+        auto at = [&](double a, double b) { return vec3{o[0] + a * u[0] + b * v[0], o[1] + a * u[1] + b * v[1], o[2] + a * u[2] + b * v[2]}; };
+        if (flat) {
+            colliders.add(at(-h, 0), at(h, 0));
+        } else {
+            const vec3 q[4] = {at(-h, -h), at(h, -h), at(h, h), at(-h, h)};
+            for (int k = 0; k < 4; ++k) colliders.add(q[k], q[(k + 1) % 4]);
+            colliders.add(q[0], q[2]);
+            colliders.add(q[1], q[3]);
+        }
+    }
+}
+
 std::vector<line_vertex> scene_lines(const sim::scene& s, double t) {
     std::vector<line_vertex> out;
     const bool flat = s.dim == 2;
@@ -62,42 +101,9 @@ std::vector<line_vertex> scene_lines(const sim::scene& s, double t) {
         if (flat) p[2] = 0;
         return p;
     });
-    line_list colliders{out, collider_color};
     const sim::collider_set set(s.colliders);
-    const auto posed = set.at(t);
-    vec3 extent{};
-    for (int a = 0; a < 3; ++a) extent[a] = s.domain_max[a] - s.domain_min[a];
-    const double size = std::sqrt(extent[0] * extent[0] + extent[1] * extent[1] + (flat ? 0 : extent[2] * extent[2]));
-    for (const auto& p : posed) {
-        const sim::collider& c = p.desc();
-        if (c.kind == sim::shape::box) {
-            box_edges(colliders, flat, [&](int i, int j, int k) {
-                return p.to_world({i * c.half[0], j * c.half[1], flat ? 0.0 : k * c.half[2]});
-            });
-        } else if (c.kind == sim::shape::sphere) {
-            circle(colliders, p, 0, 1, c.radius);
-            if (!flat) circle(colliders, p, 1, 2, c.radius), circle(colliders, p, 0, 2, c.radius);
-        } else {
-            // A square of the domain's size in the plane, centered on the plane's point.
-            const vec3 o = p.to_world({0, 0, 0});
-            vec3 n{};
-            p.phi(o, n);
-            vec3 u = std::abs(n[2]) < 0.9 ? vec3{-n[1], n[0], 0} : vec3{1, 0, 0};  // in the plane
-            const double ul = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-            for (double& x : u) x /= ul;
-            const vec3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
-            const double h = 0.5 * size;
-            auto at = [&](double a, double b) { return vec3{o[0] + a * u[0] + b * v[0], o[1] + a * u[1] + b * v[1], o[2] + a * u[2] + b * v[2]}; };
-            if (flat) {
-                colliders.add(at(-h, 0), at(h, 0));
-            } else {
-                const vec3 q[4] = {at(-h, -h), at(h, -h), at(h, h), at(-h, h)};
-                for (int k = 0; k < 4; ++k) colliders.add(q[k], q[(k + 1) % 4]);
-                colliders.add(q[0], q[2]);
-                colliders.add(q[1], q[3]);
-            }
-        }
-    }
+    const double size = scene_size(s);
+    for (const auto& p : set.at(t)) collider_lines(out, p, flat, size, collider_color);
     return out;
 }
 

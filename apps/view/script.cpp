@@ -51,6 +51,12 @@ public:
         if (b == "middle") return 2;
         fail("key 'button': expected \"left\", \"right\" or \"middle\", got \"" + b + "\"");
     }
+    bool shift() const {
+        if (!j_.contains("modifier")) return false;
+        const std::string m = text("modifier");
+        if (m != "shift") fail("key 'modifier': expected \"shift\", got \"" + m + "\"");
+        return true;
+    }
 
 private:
     const json& j_;
@@ -97,18 +103,25 @@ script_action read_action(const json& j, const std::string& where) {
         a.vec[1] = r.number("y");
         a.button = r.button();
         a.value = w == "scroll" ? r.number("steps") : 0;
+        a.shift = w == "click" && r.shift();
     } else if (w == "drag") {
         const auto from = r.numbers<2>("from");
         a.vec = {from[0], from[1], 0};
         a.to = r.numbers<2>("to");
         a.button = r.button();
+        a.shift = r.shift();
         a.frames = int(r.number_or("frames", 10));
         if (a.frames < 1) r.fail("key 'frames': expected at least 1");
     } else if (w == "button") {
         a.text = r.text("label");
     } else if (w == "record") {
         a.text = r.text("dir");
-    } else if (w == "stop_recording") {
+    } else if (w == "add_collider") {
+        a.text = r.text("type");
+        if (a.text != "sphere" && a.text != "box") r.fail("key 'type': expected \"sphere\" or \"box\", got \"" + a.text + "\"");
+    } else if (w == "rotate_collider") {
+        a.value = r.number("degrees");
+    } else if (w == "stop_recording" || w == "delete_collider") {
     } else if (w == "capture_profile") {
         a.value = r.number("steps");
         if (a.value < 1 || a.value != std::floor(a.value)) r.fail("key 'steps': expected a whole number >= 1");

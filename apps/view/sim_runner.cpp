@@ -5,6 +5,7 @@
 
 #include "frnn/error.hpp"
 #include "frnn/parallel.hpp"
+#include "median.hpp"
 
 namespace frnn::view {
 namespace {
@@ -86,6 +87,17 @@ void sim_runner::set_gravity(const sim::vec3& g) {
     send([g](sim::simulation& s) { s.set_gravity(g); });
 }
 
+void sim_runner::set_colliders(std::vector<sim::collider> list, std::optional<std::size_t> held) {
+    send([this, list = std::move(list), held](sim::simulation& s) mutable {
+        if (held && *held < list.size()) {
+            list[*held] = hand_.follow(list[*held], s.time());
+        } else {
+            hand_.release();
+        }
+        s.set_colliders(std::move(list));
+    });
+}
+
 void sim_runner::set_time_scale(double s) { time_scale_ = s; }
 
 void sim_runner::run_steps(int n) {
@@ -124,6 +136,11 @@ double sim_runner::mean_step_ms() const {
 double sim_runner::mean_copy_ms() const {
     std::lock_guard lock(mutex_);
     return copies_ ? 1e3 * copy_seconds_ / double(copies_) : 0;
+}
+
+double sim_runner::median_step_ms() const {
+    std::lock_guard lock(mutex_);
+    return median(step_ms_);
 }
 
 sim_runner::stage_times sim_runner::recent_stage_ms() const {
@@ -248,6 +265,7 @@ void sim_runner::loop() {
                 std::lock_guard lock(mutex_);
                 step_seconds_ += dt;
                 ++timed_steps_;
+                step_ms_.push_back(1e3 * dt);
             }
             if (stepped) {
                 try {

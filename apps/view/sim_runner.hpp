@@ -14,10 +14,12 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "collider_hand.hpp"
 #include "frnn/sim/simulation.hpp"
 
 namespace frnn::view {
@@ -46,6 +48,11 @@ public:
     /// After a checkpoint was loaded: its scene, once (true then).
     bool take_loaded_scene(sim::scene& out);
     void set_gravity(const sim::vec3& g);
+    /// Colliders edited by hand, from the next step on (the particles stay): with `held`, the
+    /// collider of that index is being dragged, and moves on with the velocity of its last
+    /// displacement over the simulated time in between (collider_hand.hpp); without, every
+    /// collider has only its scripted motion.
+    void set_colliders(std::vector<sim::collider> list, std::optional<std::size_t> held = std::nullopt);
     /// Simulated seconds per wall second while playing decoupled; 0: as fast as possible.
     void set_time_scale(double s);
     double time_scale() const { return time_scale_; }
@@ -68,6 +75,8 @@ public:
     /// Mean wall milliseconds per step and per snapshot copy since the start.
     double mean_step_ms() const;
     double mean_copy_ms() const;
+    /// The median wall milliseconds of the steps since the start (0 before any).
+    double median_step_ms() const;
 
     /// Milliseconds per step of each solver stage (sim::stage), averaged over about the last
     /// 20 steps (exponentially), for the panel's live timing bar; zeros before the first step.
@@ -104,10 +113,12 @@ private:
     std::string error_;
     double step_seconds_ = 0, copy_seconds_ = 0;
     std::uint64_t timed_steps_ = 0, copies_ = 0;
+    std::vector<double> step_ms_;  // every step's, for the median; under mutex_
     stage_times stage_ms_{};          // under mutex_
     std::string capture_status_;      // under mutex_
     int capture_left_ = 0;            // simulation thread only
     std::string capture_path_;        // simulation thread only
+    collider_hand hand_;              // simulation thread only
     std::thread thread_;
 };
 

@@ -1,6 +1,7 @@
 // `--state FILE`: the end of a run as JSON, for tests: the step and time, the particles in id
-// order with every field, the colliders posed at that time, the camera, the legend's pixels
-// and range, the picked particle's search (its cells and neighbors, and the grid they come
+// order with every field, the colliders posed at that time (as the simulation has them: place,
+// orientation, velocity) and the selected one, the camera, the legend's pixels and range, the
+// picked particle's search (its cells and neighbors, and the grid they come
 // from), the recent time of each stage and how many frames were drawn during a single step.
 // gl.hpp first: it declares the OpenGL prototypes, which GLFW's own include of GL/gl.h omits.
 #include "gl.hpp"
@@ -47,6 +48,17 @@ void viewer::write_state(const std::string& path) const {
             p.phi(center, n);
             cj["normal"] = {n[0], n[1], n[2]};
         }
+        // Its orientation (rows of the local-to-world rotation) and the velocity of its center.
+        json rows = json::array({json::array(), json::array(), json::array()});
+        for (int a = 0; a < 3; ++a) {
+            sim::vec3 unit{0, 0, 0};
+            unit[a] = 1;
+            const sim::vec3 column = p.to_world(unit);
+            for (int r = 0; r < 3; ++r) rows[std::size_t(r)].push_back(column[r] - center[r]);
+        }
+        cj["rotation"] = rows;
+        const sim::vec3 v = p.velocity_at(center);
+        cj["velocity"] = {v[0], v[1], v[2]};
         j["colliders"].push_back(cj);
     }
     int w = 0, h = 0;
@@ -61,6 +73,7 @@ void viewer::write_state(const std::string& path) const {
                    {"max", shown_max_},
                    {"rect", legend_rect_}};
     j["picked"] = picked_ ? json(*picked_) : json(nullptr);
+    j["selected_collider"] = selected_collider_ ? json(*selected_collider_) : json(nullptr);
     // The search made visible, with the grid it comes from so tests can recompute it.
     const auto& g = snapshot_.geometry;
     j["search"] = {{"radius", snapshot_.radius},

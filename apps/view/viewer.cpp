@@ -16,7 +16,9 @@
 #include "frnn/io/atomic_file.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/output.hpp"
+#include "collider_editing.hpp"
 #include "line_renderer.hpp"
+#include "median.hpp"
 #include "particle_renderer.hpp"
 #include "picking.hpp"
 
@@ -36,6 +38,9 @@ void scroll_callback(GLFWwindow* w, double, double dy) { owner(w)->on_scroll(dy)
 int key_code(const std::string& name) {
     if (name == "space") return GLFW_KEY_SPACE;
     if (name == "escape") return GLFW_KEY_ESCAPE;
+    if (name == "delete") return GLFW_KEY_DELETE;
+    if (name == "[") return GLFW_KEY_LEFT_BRACKET;
+    if (name == "]") return GLFW_KEY_RIGHT_BRACKET;
     if (name.size() == 1 && name[0] >= 'a' && name[0] <= 'z') return GLFW_KEY_A + (name[0] - 'a');
     return -1;
 }
@@ -52,6 +57,7 @@ viewer::viewer(const sim::scene& s, const view_options& o) : opt_(o), scene_(s) 
         for (const auto& a : script_->actions) {
             pointer_state p;
             p.x = a.vec[0], p.y = a.vec[1];
+            p.shift = a.shift;
             if (a.what == "click") {
                 p.down[std::size_t(a.button)] = true;
                 pointer_events_.emplace_back(a.frame, p);
@@ -103,6 +109,7 @@ viewer::viewer(const sim::scene& s, const view_options& o) : opt_(o), scene_(s) 
     particles_ = std::make_unique<particle_renderer>();
     lines_ = std::make_unique<line_renderer>();
     search_lines_ = std::make_unique<line_renderer>();
+    selection_lines_ = std::make_unique<line_renderer>();
 
     const auto names = sim::builtin_scene_names();
     chosen_scene_ = int(std::find(names.begin(), names.end(), scene_.name) - names.begin());
@@ -118,6 +125,7 @@ viewer::~viewer() {
     particles_.reset();
     lines_.reset();
     search_lines_.reset();
+    selection_lines_.reset();
     if (window_) {
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
@@ -141,6 +149,9 @@ void viewer::on_key(int key) {
     case GLFW_KEY_R: reset(); break;
     case GLFW_KEY_C: cam_.reset(); break;
     case GLFW_KEY_G: show_cell_grid_ = !show_cell_grid_, search_stale_ = true; break;
+    case GLFW_KEY_LEFT_BRACKET: rotate_collider(rotate_step_degrees); break;
+    case GLFW_KEY_RIGHT_BRACKET: rotate_collider(-rotate_step_degrees); break;
+    case GLFW_KEY_DELETE: delete_collider(); break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
     default: break;
@@ -174,6 +185,7 @@ void viewer::switch_scene(sim::scene next) {
 void viewer::adopt_scene(sim::scene next) {
     scene_ = std::move(next);
     reset_pending_ = false;
+    selected_collider_.reset(), holding_collider_ = false;
     show_scene_choices();
     cam_.frame({float(scene_.domain_min[0]), float(scene_.domain_min[1]), float(scene_.domain_min[2])},
                {float(scene_.domain_max[0]), float(scene_.domain_max[1]), float(scene_.domain_max[2])}, scene_.dim == 2);
@@ -278,6 +290,13 @@ void viewer::apply(const script_action& a) {
         p.down[0] = false;
         pointer_events_.insert(pointer_events_.begin() + 1, {frame_ + 1, p});
         std::stable_sort(pointer_events_.begin(), pointer_events_.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    } else if (w == "add_collider") {
+        add_collider(a.text == "box" ? sim::shape::box : sim::shape::sphere);
+    } else if (w == "delete_collider" || w == "rotate_collider") {
+        if (!selected_collider_)
+            throw error(a.where + " (frame " + std::to_string(a.frame) + "): " + w + ": no collider is selected");
+        if (w == "delete_collider") delete_collider();
+        else rotate_collider(a.value);
     } else if (w == "record") {
         start_recording(a.text);
     } else if (w == "stop_recording") {
@@ -313,6 +332,7 @@ pointer_state viewer::read_pointer() {
     } else {
         glfwGetCursorPos(window_, &now.x, &now.y);
         for (int b = 0; b < 3; ++b) now.down[std::size_t(b)] = glfwGetMouseButton(window_, b) == GLFW_PRESS;
+        now.shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     }
     return now;
 }
@@ -324,20 +344,28 @@ void viewer::move_camera(const pointer_state& now) {
     // way: where the pointer was before the press (a jump, under a script) does not count.
     const int dragging = drag_button_;
     const float dx = float(now.x - last_pointer_.x), dy = float(now.y - last_pointer_.y);
-    if (dragging == 0 && !cam_.plane_view()) cam_.orbit(dx, dy);
+    if (dragging == 0 && holding_collider_) drag_collider(now);
+    else if (dragging == 0 && !cam_.plane_view()) cam_.orbit(dx, dy);
     else if (dragging >= 0) cam_.pan(dx, dy, scene_viewport()[3]);
     if (dragging < 0) {
-        // A drag belongs to the camera when it starts outside the panel.
+        // A drag belongs to the scene when it starts outside the panel: a left one to the
+        // collider under the pointer, else to the camera.
         for (int b = 0; b < 3; ++b)
-            if (now.down[std::size_t(b)] && !last_pointer_.down[std::size_t(b)] && !imgui_wants) drag_button_ = b, press_ = now;
+            if (now.down[std::size_t(b)] && !last_pointer_.down[std::size_t(b)] && !imgui_wants) {
+                drag_button_ = b, press_ = now;
+                holding_collider_ = b == 0 && grab_collider(now);
+            }
     } else if (!now.down[std::size_t(dragging)]) {
-        // A left press released where it began (within 3 px) is a click: pick a particle.
-        if (dragging == 0 && std::hypot(now.x - press_.x, now.y - press_.y) <= 3) {
+        // A left press on no collider released where it began (within 3 px) is a click: it
+        // picks a particle and leaves no collider selected.
+        if (dragging == 0 && !holding_collider_ && std::hypot(now.x - press_.x, now.y - press_.y) <= 3) {
             int w = 0, h = 0;
             glfwGetFramebufferSize(window_, &w, &h);
             picked_ = pick_particle(snapshot_, float(0.5 * snapshot_.spacing), cam_, scene_viewport(), h, now.x, now.y);
             search_stale_ = true;
+            if (selected_collider_) selected_collider_.reset(), scene_changed_ = true;
         }
+        if (holding_collider_) release_collider();
         drag_button_ = -1;
     }
     if (scroll_ != 0 && !imgui_wants) cam_.zoom(float(scroll_));
@@ -359,6 +387,7 @@ void viewer::refresh_particles() {
         search_stale_ = true;
         if (snapshot_.time != lines_time_ || scene_changed_) {
             lines_->upload(scene_lines(scene_, snapshot_.time));  // as edited: what Reset will run
+            selection_lines_->upload(selection_outline(scene_, snapshot_.time, selected_collider_));
             lines_time_ = snapshot_.time;
         }
         scene_changed_ = false;
@@ -389,6 +418,7 @@ void viewer::draw_scene() {
     particles_->draw(view, projection, float(0.5 * snapshot_.spacing), shown_min_, shown_max_);
     glDisable(GL_DEPTH_TEST);
     search_lines_->draw(multiply(projection, view));  // over the particles: the cells hold them
+    selection_lines_->draw(multiply(projection, view));  // a collider in the fluid shows too
     glViewport(0, 0, w, h);
 }
 
@@ -448,14 +478,17 @@ void viewer::frame() {
 
 int viewer::run() {
     while (!glfwWindowShouldClose(window_)) {
+        const auto t_frame = clock_type::now();
         frame();
         ++frame_;
         const bool last = opt_.frames > 0 && frame_ >= opt_.frames;
         if (last && !opt_.screenshot_file.empty()) save_screenshot(opt_.screenshot_file);
         glfwSwapBuffers(window_);
+        if (opt_.timing) frame_ms_.push_back(1e3 * seconds_since(t_frame));
         if (last || !script_error_.empty()) break;
     }
     runner_->set_playing(false);
+    runner_->wait_idle();  // the last frame's commands (a released collider) reach the state
     if (recorder_.recording()) stop_recording();
     if (!opt_.state_file.empty()) write_state(opt_.state_file);
     if (opt_.timing && timed_frames_ > 0)
@@ -463,6 +496,9 @@ int viewer::run() {
                     "upload %.2f ms/frame, drawing %.2f ms/frame\n",
                     snapshot_.n, timed_frames_, runner_->mean_step_ms(), runner_->mean_copy_ms(),
                     1e3 * upload_seconds_ / double(timed_frames_), 1e3 * draw_seconds_ / double(timed_frames_));
+    if (opt_.timing && !frame_ms_.empty())
+        std::printf("frnn-view: median frame %.2f ms (%zu frames), median step %.2f ms\n", median(frame_ms_), frame_ms_.size(),
+                    runner_->median_step_ms());
     if (!script_error_.empty()) {
         std::fprintf(stderr, "frnn-view: error: %s\n", script_error_.c_str());
         return 1;

@@ -30,6 +30,7 @@ class line_renderer;
 struct pointer_state {
     double x = 0, y = 0;
     std::array<bool, 3> down{false, false, false};
+    bool shift = false;  ///< a drag with Shift moves a collider along the view direction
 };
 
 /// Width of the control panel at the window's right edge, in pixels.
@@ -61,6 +62,8 @@ private:
     /// The part of the window the scene is drawn in, left of the panel: x, y, width, height.
     std::array<int, 4> scene_viewport() const;
     void draw_panel();
+    /// A panel button, its rectangle kept for the `button` script action.
+    bool panel_button(const char* label);
     void draw_legend();
     /// A ring around the picked particle and smaller ones around its neighbors.
     void draw_pick_marker();
@@ -68,6 +71,22 @@ private:
     /// recomputed when the snapshot, the pick or the particle under the pointer changes.
     void refresh_search(const pointer_state& now);
     void draw_parameters();
+
+    // Colliders by hand (viewer_colliders.cpp).
+    /// A left press: grabs (and selects) the collider under the pointer; false when none.
+    bool grab_collider(const pointer_state& now);
+    /// While held: moves the collider with the pointer since the last frame, in the view plane
+    /// through its center, or with Shift along the view direction.
+    void drag_collider(const pointer_state& now);
+    void release_collider();
+    void add_collider(sim::shape kind);
+    void delete_collider();
+    /// Turns the selected collider about the view direction, counterclockwise as seen.
+    void rotate_collider(double degrees);
+    /// The colliders as edited go to the simulation at once (held: the one being dragged).
+    void send_colliders(bool held);
+    /// The panel's colliders section: the list, Add sphere, Add box, Delete, Rotate.
+    void draw_colliders();
     /// The Profile section: the live per-stage timing bar, steps and frames per second, and
     /// "Capture profile".
     void draw_profile();
@@ -134,6 +153,9 @@ private:
     int drag_button_ = -1;
     pointer_state press_;  // where the camera's drag began: a release there is a click (picks)
     std::optional<std::size_t> picked_;  // particle id
+    std::optional<std::size_t> selected_collider_;  // index in scene_.colliders
+    bool holding_collider_ = false;                 // the left drag moves it
+    std::unique_ptr<line_renderer> selection_lines_;  // its outline, drawn over the particles
 
     // The search made visible (search_view.hpp): the picked particle's cells and neighbors, and
     // with the cell grid toggle the block of cells a search visits around the particle under
@@ -153,6 +175,7 @@ private:
     long frames_in_step_ = 0, max_frames_in_step_ = 0;
     double upload_seconds_ = 0, draw_seconds_ = 0, wait_seconds_ = 0;
     long timed_frames_ = 0;
+    std::vector<double> frame_ms_;  // --timing: each frame's wall time, swap included
     std::string script_error_;
 
     // Profiling: drawing time per frame (averaged like the stages'), steps per second over

@@ -93,6 +93,11 @@ public:
         parameters_changed();
     }
 
+    void set_colliders(const std::vector<collider>& colliders) override {
+        scene_.colliders = colliders;  // a checkpoint saves them
+        colliders_ = collider_set(colliders);
+    }
+
 protected:
     /// Called after set_parameters() changed scene_: the solver copies what it reads per step.
     virtual void parameters_changed() = 0;

@@ -49,6 +49,13 @@ void simulation::set_gravity(const vec3& g) {
     scene_ = std::move(next);
 }
 
+void simulation::set_colliders(std::vector<collider> colliders) {
+    if (scene_.dim == 2)
+        for (auto& c : colliders) flatten_to_2d(c);
+    solver_->set_colliders(colliders);
+    scene_.colliders = std::move(colliders);
+}
+
 void simulation::save_checkpoint(const std::string& path) const {
     detail::checkpoint_header h;
     h.scene_json = scene_to_json(scene_);

@@ -121,6 +121,43 @@ TEST(SimSimulation, GravityChangesLive) {
     EXPECT_GT(rise / double(a.n), 0.5 * 9.81 * 0.004 * 0.004);
 }
 
+TEST(SimSimulation, CollidersChangeLiveAndAMovingOnePushesWithItsVelocity) {
+    simulation still(droplet_2d(), 1), moving(droplet_2d(), 1);
+    for (int k = 0; k < 5; ++k) still.step(), moving.step();
+    particle_snapshot a;
+    still.snapshot(a);
+    double cx = 0, cy = 0;  // a sphere dropped into the middle of the drop
+    for (std::size_t k = 0; k < a.n; ++k) cx += a.x[k * 3] / double(a.n), cy += a.x[k * 3 + 1] / double(a.n);
+    collider ball;
+    ball.kind = shape::sphere;
+    ball.radius = 3 * a.spacing;
+    ball.center = {cx, cy, 0.3};  // flattened: z = 0 in a 2D scene
+    std::vector<collider> list = still.current_scene().colliders;
+    list.push_back(ball);
+    still.set_colliders(list);
+    // The same place now, moving right at 1 m/s: center(t) = center + velocity t.
+    list.back().path.velocity = {1, 0, 0};
+    list.back().center[0] -= moving.time();
+    moving.set_colliders(list);
+    EXPECT_EQ(still.steps(), 5u);  // no restart
+    EXPECT_EQ(still.current_scene().colliders.back().center[2], 0);
+    std::size_t inside = 0;
+    for (std::size_t k = 0; k < a.n; ++k) inside += std::hypot(a.x[k * 3] - cx, a.x[k * 3 + 1] - cy) < ball.radius;
+    ASSERT_GT(inside, 5u);
+    still.step(), moving.step();
+    particle_snapshot b, c;
+    still.snapshot(b), moving.snapshot(c);
+    // Out of the ball after one step; those it touches leave faster when it moves (they take
+    // its velocity along the normal).
+    double still_speed = 0, moving_speed = 0;
+    for (std::size_t k = 0; k < b.n; ++k) {
+        const double d = std::hypot(b.x[k * 3] - cx, b.x[k * 3 + 1] - cy);
+        EXPECT_GE(d, ball.radius) << "particle " << k;
+        if (d < ball.radius + a.spacing) still_speed += b.speed[k], moving_speed += c.speed[k];
+    }
+    EXPECT_GT(moving_speed, still_speed + 0.1 * double(inside));
+}
+
 TEST(SimSimulation, ParameterOutsideItsRangeIsRefused) {
     simulation sim(droplet_2d(), 1);
     frnn::test::expect_error([&] { sim.set_parameter(*find_parameter("sph.gamma"), 12); }, {"sph.gamma", "[1, 10]", "12"});

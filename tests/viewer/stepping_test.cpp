@@ -1,8 +1,10 @@
 // Stepping in the viewer: pause holds the state bit for bit, a single step advances exactly
 // one step, N lockstep steps equal `frnn sim` after N steps, in decoupled mode frames keep
-// coming while one slowed step runs, and a saved state loads back bit for bit.
+// coming while one slowed step runs, --timing's medians, and a saved state loads back bit for
+// bit.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 
 #include "viewer_run.hpp"
@@ -102,6 +104,22 @@ TEST(ViewerStepping, DecoupledFramesKeepComingDuringASlowStep) {
     ASSERT_EQ(r.code, 0) << r.err;
     const auto s = read_json(dir / "s.json");
     EXPECT_GE(s.at("max_frames_in_one_step").get<long>(), 5);
+}
+
+TEST(ViewerStepping, TimingGivesTheMedianFrameAndStep) {
+    const scratch_dir dir("viewer_timing");
+    // Lockstep, one step of at least 80 ms per frame: both medians at least that.
+    write_text(dir / "script.json", R"({"steps_per_frame": 1, "actions": []})");
+    const auto r = run_viewer(dir, "--scene droplet --dim 2 --particles 300 --slow-step-ms 80 --script script.json --frames 6 --timing");
+    ASSERT_EQ(r.code, 0) << r.err;
+    double frame = 0, step = 0;
+    int frames = 0;
+    const auto at = r.out.find("median frame");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "median frame %lf ms (%d frames), median step %lf ms", &frame, &frames, &step), 3) << r.out;
+    EXPECT_EQ(frames, 6);
+    EXPECT_GE(step, 80);
+    EXPECT_GE(frame, step);
 }
 
 TEST(ViewerStepping, SavedStateLoadsBackBitForBit) {

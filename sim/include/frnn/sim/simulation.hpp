@@ -52,6 +52,9 @@ public:
     bool set_parameter(const parameter& p, double value);
     /// Sets the gravity from the next step on.
     void set_gravity(const vec3& g);
+    /// Replaces the colliders from the next step on, keeping the particles: colliders moved,
+    /// added or deleted by hand. Flattened to the xy plane in a 2D scene.
+    void set_colliders(std::vector<collider> colliders);
 
     const scene& current_scene() const { return scene_; }
     const solver& state() const { return *solver_; }

@@ -14,6 +14,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "frnn/grid_geometry.hpp"
 #include "frnn/sim/profiler.hpp"
@@ -55,6 +56,9 @@ public:
     /// step on. Throws frnn::error naming the parameter when `s` changes one that is not live
     /// for this solver (the scene must restart for it).
     virtual void set_parameters(const scene& s) = 0;
+    /// Replaces the colliders from the next step on, keeping the particles (a viewer moving
+    /// them by hand); the list must be valid for the scene's dimension (flatten_to_2d).
+    virtual void set_colliders(const std::vector<collider>& colliders) = 0;
     /// Neighbors of particle i (view() order) in the last step's lists; 0 before the first step.
     virtual std::uint32_t neighbor_count(std::size_t i) const = 0;
     /// The cells of the grid the last step searched (frnn/grid_geometry.hpp), so a viewer can
