@@ -154,5 +154,38 @@ TEST(OracleThreads, OutlierFloat3D) {
     invariance_case<float, 3>(pts, 0.4f, {}, queries, {grid_kind::automatic, grid_kind::hashed});
 }
 
+// Correctness, not only invariance, where slabs of cell layers are fewest and thinnest: boxes
+// and extents of 2 reach + 1 to 2 reach + 4 cells on each axis, periodic and open, swept at 2
+// and 3 threads against the brute-force oracle. Slabs of one layer run at the same time there,
+// each adding partner counts into its neighbor's spill; the oracle tests elsewhere run at 1
+// thread. (Periodic boxes of 2 reach + 1 cells once lost pairs here.)
+template <int D>
+void thin_slabs_case(bool periodic, std::uint64_t seed) {
+    for (double cell_in_r : {1.0, 0.5}) {
+        const int reach = cell_in_r == 1.0 ? 1 : 2;
+        for (int extra = 0; extra <= 3; ++extra) {
+            const int cells = 2 * reach + 1 + extra;
+            const double side = cells * cell_in_r * 1.0001;  // r = 1: just over `cells` cells
+            const std::size_t n = D == 3 ? 700 : 500;
+            const auto pts = uniform_points<float, D>(n, 0, side, seed + std::uint64_t(cells));
+            grid_options opt;
+            opt.kind = grid_kind::uniform;
+            opt.cell_size = cell_in_r;
+            if (periodic) opt.periodic.assign(D, side);
+            for (int threads : {2, 3}) {
+                opt.threads = threads;
+                SCOPED_TRACE(std::string(periodic ? "periodic" : "open") + " cells=" + std::to_string(cells) +
+                             " reach=" + std::to_string(reach) + " threads=" + std::to_string(threads));
+                check_all<float, D>(pts, 1.0f, opt, {}, depth::basic);
+            }
+        }
+    }
+}
+
+TEST(OracleThreads, ThinSlabsPeriodic3D) { thin_slabs_case<3>(true, 300); }
+TEST(OracleThreads, ThinSlabsPeriodic2D) { thin_slabs_case<2>(true, 310); }
+TEST(OracleThreads, ThinSlabsOpen3D) { thin_slabs_case<3>(false, 320); }
+TEST(OracleThreads, ThinSlabsOpen2D) { thin_slabs_case<2>(false, 330); }
+
 }  // namespace
 }  // namespace frnn::test
