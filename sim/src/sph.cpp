@@ -7,9 +7,13 @@
 //   P = c0^2 (rho - rho0);
 // - the symmetric momentum equation a_i = -sum_j m (P_i / rho_i^2 + P_j / rho_j^2 + Pi_ij)
 //   grad_i W, with Monaghan's artificial viscosity Pi_ij = -alpha c0 mu_ij / rho_bar_ij for
-//   approaching pairs, mu_ij = h v_ij . x_ij / (r_ij^2 + 0.01 h^2);
+//   approaching pairs, mu_ij = h v_ij . x_ij / (r_ij^2 + 0.01 h^2); or, with the laminar
+//   viscosity, Morris, Fox and Zhu ("Modeling low Reynolds number incompressible flows using
+//   SPH", J. Comput. Phys. 136, 1997, eq. 8) with mu = rho nu:
+//   a_i += sum_j m (mu_i + mu_j) x_ij . grad_i W / (rho_i rho_j (r_ij^2 + 0.01 h^2)) v_ij;
 // - symplectic Euler or leapfrog (kick-drift-kick), with a time step from the CFL condition
-//   on c0 plus the flow speed and from the force condition 0.25 sqrt(h / |a|).
+//   on c0 plus the flow speed, from the force condition 0.25 sqrt(h / |a|) and, with the
+//   laminar viscosity, from the viscous condition 0.125 h^2 / nu (Morris et al. 1997).
 #include <cmath>
 #include <memory>
 
@@ -88,6 +92,7 @@ public:
 
 private:
     void parameters_changed() override { prm_ = this->scene_.sph; }
+    bool laminar() const { return prm_.viscosity == sph_params::viscosity_t::laminar; }
 
     void finish(profiler& prof, double dt) {
         this->time_ += dt;
@@ -102,6 +107,7 @@ private:
         const double vmax2 = this->largest_norm_squared(v_), amax2 = this->largest_norm_squared(acc_);
         double dt = std::min(prm_.max_dt, prm_.cfl * h_ / (c0_ + std::sqrt(vmax2)));
         if (amax2 > 0) dt = std::min(dt, 0.25 * std::sqrt(h_ / std::sqrt(amax2)));
+        if (laminar() && prm_.nu > 0) dt = std::min(dt, 0.125 * h_ * h_ / prm_.nu);
         if (dt < 1e-3 * std::min(prm_.max_dt, prm_.cfl * h_ / c0_))
             throw error("simulation unstable at step " + std::to_string(this->steps_ + 1) + ": a particle moves at " +
                         std::to_string(std::sqrt(vmax2)) + " m/s, the time step collapsed to " + std::to_string(dt) + " s");
@@ -157,7 +163,9 @@ private:
             p_[i] = pressure(float(rho));
         });
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
-        const double alpha = prm_.alpha, h = h_, c0 = c0_, m = mass_;
+        const bool laminar_viscosity = laminar();
+        const double alpha = laminar_viscosity ? 0 : prm_.alpha, nu = laminar_viscosity ? prm_.nu : 0;
+        const double h = h_, c0 = c0_, m = mass_;
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
             const double pi_term = p_[i] / (double(rho_[i]) * rho_[i]);
             double acc[D] = {};
@@ -178,6 +186,12 @@ private:
                 // a_i = -m f grad_i W = m f dW/dr r / len.
                 const double s = m * f * dw / len;
                 for (int a = 0; a < D; ++a) acc[a] += s * r[a];
+                if (nu > 0) {
+                    // x_ij . grad_i W = dW/dr len; (mu_i + mu_j) / (rho_i rho_j) = nu (1/rho_j + 1/rho_i).
+                    const double k = m * nu * (1 / double(rho_[i]) + 1 / double(rho_[j])) * dw * len /
+                                     (len * len + 0.01 * h * h);
+                    for (int a = 0; a < D; ++a) acc[a] += k * double(v_[i * D + a] - v_[j * D + a]);
+                }
             }
             if (use_walls && p_[i] > 0) {
                 vec3 x{0, 0, 0};

@@ -113,3 +113,40 @@ TEST(SimPhysics, FrontErrorOfTheReferenceItselfIsZero) {
         EXPECT_THROW(front_error(series.points, series, 20, 30), frnn::error);  // no point in range
     }
 }
+
+// The laminar viscosity (Morris et al. 1997) in a periodic box: a shear wave u_x = U sin(2 pi y)
+// keeps its shape (no pressure gradient: u_x depends on y only) and its amplitude decays as
+// exp(-nu (2 pi)^2 t), the solution of the diffusion equation it obeys.
+TEST(SimPhysics, LaminarViscosityDecaysAShearWaveAtItsRate) {
+    const int rows = 32;
+    const double U = 0.01, nu = 0.01, pi = 3.14159265358979323846;
+    // One fluid block per lattice row, moving at the wave's velocity at that row's height.
+    std::string blocks;
+    for (int k = 0; k < rows; ++k) {
+        const double y0 = double(k) / rows, y1 = double(k + 1) / rows, u = U * std::sin(2 * pi * (k + 0.5) / rows);
+        blocks += (k ? ", " : "") + std::string(R"({"type": "box", "min": [0, )") + std::to_string(y0) +
+                  R"(, 0], "max": [1, )" + std::to_string(y1) + R"(, 0], "velocity": [)" + std::to_string(u) +
+                  ", 0, 0]}";
+    }
+    const std::string text = R"({"name": "shear", "solver": "sph", "dim": 2, "particles": )" +
+                             std::to_string(rows * rows) + R"(, "gravity": [0, 0, 0],
+      "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 1],
+      "fluid": [)" + blocks + R"(],
+      "sph": {"viscosity": "laminar", "nu": 0.01, "sound_speed": 0.2, "clamp_negative_pressure": false}})";
+    auto sol = make_solver(parse_scene(text, "shear"), 2);
+    auto amplitude = [&] {
+        const auto v = sol->view();
+        double sum = 0;
+        for (std::size_t i = 0; i < v.n; ++i) sum += v.v[2 * i] * std::sin(2 * pi * v.x[2 * i + 1]);
+        return 2 * sum / double(v.n);
+    };
+    const double a0 = amplitude();
+    EXPECT_NEAR(a0, U, 0.01 * U);
+    profiler p;
+    while (sol->time() < 1.0) sol->step(p);
+    const double expected = std::exp(-nu * 4 * pi * pi * sol->time());
+    const double ratio = amplitude() / a0;
+    std::printf("[ shear wave ] A(t)/A(0) = %.4f, exp(-nu k^2 t) = %.4f at t = %.3f s (%llu steps)\n", ratio, expected,
+                sol->time(), (unsigned long long)sol->steps());
+    EXPECT_NEAR(ratio / expected, 1.0, 0.03);
+}

@@ -57,7 +57,11 @@ struct sph_params {
     double rest_density = 1000;    ///< [kg/m^3]
     double sound_speed = 0;        ///< 0: 10 * sqrt(2 g H), H the fluid's initial height
     double gamma = 7;              ///< Tait exponent
-    double alpha = 0.05;           ///< Monaghan artificial viscosity
+    /// The viscous term: Monaghan's artificial viscosity (alpha), or the laminar viscosity of
+    /// Morris, Fox and Zhu (1997) with kinematic viscosity nu.
+    enum class viscosity_t { artificial, laminar } viscosity = viscosity_t::artificial;
+    double alpha = 0.05;           ///< Monaghan artificial viscosity (viscosity "artificial")
+    double nu = 1e-6;              ///< kinematic viscosity [m^2/s] (viscosity "laminar"; water: 1e-6)
     enum class integrator_t { symplectic_euler, leapfrog } integrator = integrator_t::symplectic_euler;
     double cfl = 0.4;
     double max_dt = 1e-3;
