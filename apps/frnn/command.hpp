@@ -18,6 +18,12 @@ struct command {
 
 std::vector<command>& commands();
 
+/// Thrown by a subcommand that has printed its error itself (e.g. once for all MPI ranks):
+/// main exits with `code` and prints nothing more.
+struct reported_failure {
+    int code = 1;
+};
+
 struct register_command {
     register_command(std::string name, command_setup setup) {
         commands().push_back({std::move(name), std::move(setup)});

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
+    } catch (const frnn::app::reported_failure& f) {
+        return f.code;
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "frnn: %s\n", e.what());
         return 2;

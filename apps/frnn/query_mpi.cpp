@@ -19,6 +19,7 @@
 #include "frnn/io/write.hpp"
 #include "frnn/mpi/collective_error.hpp"
 #include "frnn/mpi/domain.hpp"
+#include "command.hpp"
 #include "mpi_input.hpp"
 #include "mpi_output.hpp"
 
@@ -212,23 +213,33 @@ void run(const query_args& a) {
 }  // namespace
 
 void run_query_mpi(const query_args& a) {
-    check_usage(a);
-    check_mpi_usage(a);
-    mpi_session session;
-    try {
-        run(a);
-    } catch (const mpi::collective_error&) {
-        throw;  // every rank has it: main prints it, the session finalizes
-    } catch (const CLI::ParseError&) {
-        throw;  // from the options and the file's header, the same on every rank
-    } catch (const std::exception& e) {
-        // Thrown on this rank alone: the others may wait for it in a collective call for ever.
+    int code = 0;
+    {
+        mpi_session session;
         int rank = 0;
         MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-        std::fprintf(stderr, "frnn: error: rank %d: %s\n", rank, e.what());
+        // Collective errors are the same on every rank: rank 0 prints them once, and the
+        // others exit only after it did (MPI_Finalize waits for every rank).
+        try {
+            check_usage(a);
+            check_mpi_usage(a);
+            run(a);
+        } catch (const mpi::collective_error& e) {
+            if (rank == 0) std::fprintf(stderr, "frnn: error: %s\n", e.what());
+            code = 1;
+        } catch (const CLI::ParseError& e) {
+            // From the options and the file's header: the same on every rank.
+            if (rank == 0) std::fprintf(stderr, "frnn: %s\n", e.what());
+            code = 2;
+        } catch (const std::exception& e) {
+            // Thrown on this rank alone: the others may wait for it in a collective for ever.
+            std::fprintf(stderr, "frnn: error: rank %d: %s\n", rank, e.what());
+            std::fflush(stderr);
+            MPI_Abort(MPI_COMM_WORLD, 1);
+        }
         std::fflush(stderr);
-        MPI_Abort(MPI_COMM_WORLD, 1);
     }
+    if (code) throw reported_failure{code};
 }
 
 }  // namespace frnn::app
