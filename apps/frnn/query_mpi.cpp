@@ -52,6 +52,20 @@ void check_mpi_usage(const query_args& a) {
     if (a.cell_size != 0) refuse("--cell-size", "each rank's grid uses cells of the radius");
 }
 
+/// The ranks of an MPMD launch (mpirun -np 1 frnn ... : -np 1 frnn ...) could be given other
+/// files; the radius and the box the library compares itself.
+void require_same_files(MPI_Comm comm, const query_args& a) {
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    const std::string mine = a.input + '\n' + a.generate + '\n' + std::to_string(a.dim) + '\n' +
+                             std::to_string(a.seed) + '\n' + a.output + '\n' + (a.json ? "json" : "text");
+    unsigned long long length = mine.size();
+    MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+    std::string reference = rank == 0 ? mine : std::string(length, ' ');
+    MPI_Bcast(reference.data(), int(length), MPI_CHAR, 0, comm);
+    mpi::throw_if_any(comm, reference == mine ? "" : "INPUT, --output, --generate, --dim, --seed or --json differ from rank 0's");
+}
+
 /// Test hook of the fault tests: FRNN_TEST_KILL_RANK=k kills rank k with SIGKILL after the
 /// particles moved and before the ghost exchange, while the others wait for it.
 void kill_hook(int rank) {
@@ -197,6 +211,7 @@ void run(const query_args& a) {
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &report.ranks);
     stopwatch clock;
+    require_same_files(comm, a);
     const input_slice in = read_input_slice(comm, a);
     check_periodic(a.periodic.empty() ? std::vector<double>{} : parse_periodic(a.periodic), in.points.dimension, a.radius);
     // Output files number points in 32 bits, as the single-process tool's lists do.

@@ -136,6 +136,8 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
     };
     expect_failure(two("-r 1 -o out.npy", "-r 2 -o out.npy"), 1,
                    "frnn: error: rank 1: radius, skin, imbalance threshold and periodic box (2.000000");
+    expect_failure(two("-r 1 -o a.npy", "-r 1 -o b.npy"), 1,
+                   "frnn: error: rank 1: INPUT, --output, --generate, --dim, --seed or --json differ from rank 0's");
     expect_failure(two("-r 1 --periodic 5,5,5", "-r 1 --periodic 5,5,6"), 1,
                    "frnn: error: rank 1: radius, skin, imbalance threshold and periodic box");
     // What the distributed path does not do, and a write that fails on rank 0.
