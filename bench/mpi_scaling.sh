@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# The strong scaling of the distributed rebuild (frnn_mpi_bench) on W1 and W2 of BENCHMARKS.md:
+# 1 and 2 ranks of one thread each, and 4 ranks, which oversubscribe a 2-core machine (marked
+# so). Prints a Markdown table: medians of the rounds, efficiency T1 / (P * TP), bytes sent to
+# other ranks per particle per rebuild, and the time split into exchange and local work.
+# Usage: bench/mpi_scaling.sh [BUILD_DIR] [ROUNDS] [SIZES]   (defaults: build/release 9 "262144 1000000")
+# While it measures, /tmp/frnn-quiet exists (the machine's other users pause their builds).
+set -euo pipefail
+build=${1:-build/release}
+rounds=${2:-9}
+sizes=${3:-262144 1000000}
+bench=$build/bench/frnn_mpi_bench
+[ -x "$bench" ] || { echo "mpi_scaling.sh: $bench not built (needs MPI and FRNN_BUILD_BENCHMARKS)" >&2; exit 1; }
+while [ -e /tmp/frnn-quiet ]; do sleep 10; done  # someone else is measuring
+touch /tmp/frnn-quiet
+trap 'rm -f /tmp/frnn-quiet' EXIT
+lines=$(mktemp)
+trap 'rm -f /tmp/frnn-quiet "$lines"' EXIT
+for w in W1 W2; do
+    for n in $sizes; do
+        for p in 1 2 4; do
+            FRNN_NUM_THREADS=1 OMP_NUM_THREADS=1 mpirun --oversubscribe --allow-run-as-root -np "$p" \
+                "$bench" --workload "$w" --n "$n" --rounds "$rounds" >>"$lines"
+        done
+    done
+done
+rm -f /tmp/frnn-quiet
+python3 - "$lines" <<'PY'
+import json, sys
+rows = [json.loads(l) for l in open(sys.argv[1])]
+one = {(r["workload"], r["n"]): r for r in rows if r["ranks"] == 1}
+print("| workload | N | ranks | rebuild ms | efficiency | exchange ms | local ms (grid + lists) | bytes/particle (ghosts) | ghost fraction | pairs | single-process grid ms |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+for r in rows:
+    base = one[(r["workload"], r["n"])]
+    p = r["ranks"]
+    eff = base["step_ms"] / (p * r["step_ms"])
+    mark = " (oversubscribed)" if p > 2 else ""
+    void = "" if r["pairs"] == base["pairs"] else " VOID: pairs differ"
+    print(f'| {r["workload"]} | {r["n"]:,} | {p}{mark} | {r["step_ms"]:.1f} | {eff:.0%} | {r["exchange_ms"]:.1f} | '
+          f'{r["local_ms"]:.1f} ({r["grid_ms"]:.1f} + {r["lists_ms"]:.1f}) | {r["bytes_per_particle"]:.2f} '
+          f'({r["halo_bytes_per_particle"]:.2f}) | {r["ghost_fraction"]:.4f} | {r["pairs"]:,.0f}{void} | '
+          f'{r["serial_ms"]:.1f} |' if p == 1 else
+          f'| {r["workload"]} | {r["n"]:,} | {p}{mark} | {r["step_ms"]:.1f} | {eff:.0%} | {r["exchange_ms"]:.1f} | '
+          f'{r["local_ms"]:.1f} ({r["grid_ms"]:.1f} + {r["lists_ms"]:.1f}) | {r["bytes_per_particle"]:.2f} '
+          f'({r["halo_bytes_per_particle"]:.2f}) | {r["ghost_fraction"]:.4f} | {r["pairs"]:,.0f}{void} | |')
+print()
+for r in rows:
+    if r["ranks"] > 1:
+        print(f'{r["workload"]} N={r["n"]}: first build (particles from their initial slices to their sub-domains, '
+              f'then ghosts) at {r["ranks"]} ranks: {r["first_build_bytes_per_particle"]:.1f} bytes/particle')
+PY
