@@ -192,6 +192,8 @@ csr<T> domain<T, D>::neighbor_lists(bool distances) const {
     const std::span<const std::int8_t> images = halo_.ghost_images();
     csr<T> out;
     out.offsets.assign(n + 1, 0);
+    out.indices.reserve(candidates.size());  // growing it would fault in its pages again and again
+    if (distances) out.distances.reserve(candidates.size());
     for (std::size_t i = 0; i < n; ++i) {
         const T* xi = &raw_[i * D];
         for (std::uint32_t j : candidates.row(i)) {
