@@ -28,8 +28,8 @@ RULES = {
     "src/vulkan": [CORE, VULKAN, r"core/(kind_policy|cell_rules)\.hpp", LOCAL],
     "sim": [CORE, r"frnn/sim/.*", r"frnn/io/atomic_file\.hpp", LOCAL],
     "python/src": [CORE, VULKAN, LOCAL],
-    "bench": [CORE, VULKAN, r"frnn/bench/.*", r"frnn/io/atomic_file\.hpp", r"frnn/sim/.*"],
-    "apps": [CORE, VULKAN, r"frnn/(io|sim|bench)/.*", LOCAL],
+    "bench": [CORE, VULKAN, MPI, r"frnn/bench/.*", r"frnn/io/atomic_file\.hpp", r"frnn/sim/.*"],
+    "apps": [CORE, VULKAN, MPI, r"frnn/(io|sim|bench)/.*", LOCAL],
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
