@@ -13,9 +13,23 @@ bench=$build/bench/frnn_mpi_bench
 [ -x "$bench" ] || { echo "mpi_scaling.sh: $bench not built (needs MPI and FRNN_BUILD_BENCHMARKS)" >&2; exit 1; }
 while [ -e /tmp/frnn-quiet ]; do sleep 10; done  # someone else is measuring
 touch /tmp/frnn-quiet
-trap 'rm -f /tmp/frnn-quiet' EXIT
 lines=$(mktemp)
 trap 'rm -f /tmp/frnn-quiet "$lines"' EXIT
+# Percent of CPU time idle over 3 s (from /proc/stat), to wait for builds already running.
+idle_percent() {
+    local a b
+    read -r -a a < <(grep '^cpu ' /proc/stat)
+    sleep 3
+    read -r -a b < <(grep '^cpu ' /proc/stat)
+    local total=0 k
+    for k in 1 2 3 4 5 6 7 8; do total=$((total + b[k] - a[k])); done
+    echo $(( 100 * (b[4] - a[4]) / (total > 0 ? total : 1) ))
+}
+for _ in $(seq 60); do
+    idle=$(idle_percent)
+    [ "$idle" -ge 90 ] && break
+done
+echo "mpi_scaling.sh: the CPUs were ${idle}% idle when the measurements began" >&2
 for w in W1 W2; do
     for n in $sizes; do
         for p in 1 2 4; do
