@@ -1,7 +1,7 @@
 // `mpirun -np P frnn query`: the output file is byte-identical to the single-process tool's at
-// P = 1..4 on every oracle set and through every reading path (.npy slices, files read on rank 0
-// and scattered); the --json summary adds up; bad input stops every rank with one clear message
-// and no file; a killed rank ends the job within seconds.
+// P = 1..4 on every oracle set and through every reading path (.npy slices in C and Fortran
+// order, files read on rank 0 and scattered); the --json summary adds up; bad input stops every
+// rank with one clear message and no file; a killed rank ends the job within seconds.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -41,10 +41,22 @@ std::size_t occurrences(const std::string& text, const std::string& part) {
 /// and compares the output files byte for byte.
 template <class T, int D>
 void expect_same_files(const char* name, const std::vector<T>& points, const std::string& input, const std::string& output,
-                       const std::string& options) {
+                       const std::string& options, bool fortran_order = false) {
     SCOPED_TRACE(name);
     const scratch_dir dir(std::string("mpi_cli_") + name);
-    write_points<T, D>(dir / input, points);
+    if (fortran_order) {
+        // All x, then all y (then all z): each rank reads its rows from D places.
+        const std::size_t n = points.size() / D;
+        std::string columns;
+        for (std::size_t a = 0; a < D; ++a)
+            for (std::size_t i = 0; i < n; ++i) put(columns, points[i * D + a]);
+        write_bytes(dir / input, npy_bytes(std::string("{'descr': '") + (sizeof(T) == 4 ? "<f4" : "<f8") +
+                                               "', 'fortran_order': True, 'shape': (" + std::to_string(n) + ", " +
+                                               std::to_string(D) + "), }",
+                                           columns));
+    } else {
+        write_points<T, D>(dir / input, points);
+    }
     const tool_result serial = run_tool(dir, "query " + input + " " + options + " -o serial" + output);
     ASSERT_EQ(serial.code, 0) << serial.err;
     const std::string expected = read_bytes(dir / ("serial" + output));
@@ -76,6 +88,8 @@ TEST(MpiCli, OutputIsTheSingleProcessFileOnEveryOracleSet) {
     expect_same_files<double, 3>("lattice", lattice_points<double, 3>(8, 1.0), "in.xyz", ".csv", "-r 1");
     expect_same_files<double, 2>("periodic_lattice", lattice_points<double, 2>(12, 1.0), "in.npy", ".npy",
                                  "-r 1 --periodic 12,12");
+    expect_same_files<double, 2>("fortran_order", uniform_points<double, 2>(1000, 0, 10, 68), "in.npy", ".csv", "-r 0.6",
+                                 true);
 }
 
 TEST(MpiCli, JsonSummaryAddsUp) {
@@ -149,18 +163,23 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
 }
 
 TEST(MpiCli, AKilledRankEndsTheJobWithinSeconds) {
-    const scratch_dir dir("mpi_cli_killed");
-    const auto start = std::chrono::steady_clock::now();
-    // Rank 1 dies (SIGKILL) between the migration and the ghost exchange; the others wait for it.
-    const command_result r = run_command(dir, "FRNN_TEST_KILL_RANK=1 FRNN_NUM_THREADS=1 timeout 60 " + mpirun + " -np 3 " +
-                                                  tool + " query --generate uniform:20000 -r 1 -o out.npy");
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    EXPECT_NE(r.code, 0);
-    EXPECT_NE(r.code, 124) << "mpirun still ran after 60 s";
-    EXPECT_NE(r.err.find("exited on signal 9"), std::string::npos) << r.err;
-    EXPECT_LT(seconds, 15.0);
-    EXPECT_FALSE(std::filesystem::exists(dir / "out.npy"));
-    EXPECT_TRUE(listing(dir).empty());
+    // Rank k dies (SIGKILL) between the migration and the ghost exchange; the others wait for
+    // it in a collective call until mpirun ends them. Rank 0 too: it would have written the file.
+    for (int killed : {1, 0}) {
+        SCOPED_TRACE("rank " + std::to_string(killed) + " killed");
+        const scratch_dir dir("mpi_cli_killed");
+        const auto start = std::chrono::steady_clock::now();
+        const command_result r = run_command(dir, "FRNN_TEST_KILL_RANK=" + std::to_string(killed) +
+                                                      " FRNN_NUM_THREADS=1 timeout 60 " + mpirun + " -np 3 " + tool +
+                                                      " query --generate uniform:20000 -r 1 -o out.npy");
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_NE(r.code, 0);
+        EXPECT_NE(r.code, 124) << "mpirun still ran after 60 s";
+        EXPECT_NE(r.err.find("rank " + std::to_string(killed) + " with PID"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("exited on signal 9"), std::string::npos) << r.err;
+        EXPECT_LT(seconds, 15.0);
+        EXPECT_TRUE(listing(dir).empty()) << "no output file, no temporary";
+    }
 }
 
 }  // namespace
