@@ -2,7 +2,8 @@
 # The strong scaling of the distributed rebuild (frnn_mpi_bench) on W1 and W2 of BENCHMARKS.md:
 # 1 and 2 ranks of one thread each, and 4 ranks, which oversubscribe a 2-core machine (marked
 # so). Prints a Markdown table: medians of the rounds, efficiency T1 / (P * TP), bytes sent to
-# other ranks per particle per rebuild, and the time split into exchange and local work.
+# other ranks per particle per rebuild, and the time split into exchange and local work; then
+# weak scaling of W2 (half the points on 1 rank against all on 2).
 # Usage: bench/mpi_scaling.sh [BUILD_DIR] [ROUNDS] [SIZES]   (defaults: build/release 9 "262144 1000000")
 # While it measures, /tmp/frnn-quiet exists (the machine's other users pause their builds).
 set -euo pipefail
@@ -38,10 +39,17 @@ for w in W1 W2; do
         done
     done
 done
+# Weak scaling: W2 with half the points on 1 rank against all of them on 2 (the same
+# particles per rank; W1's lattice sizes cannot halve exactly).
+for n in $sizes; do
+    FRNN_NUM_THREADS=1 OMP_NUM_THREADS=1 mpirun --oversubscribe --allow-run-as-root -np 1 \
+        "$bench" --workload W2 --n $((n / 2)) --rounds "$rounds" | sed 's/^{/{"weak": true, /' >>"$lines"
+done
 rm -f /tmp/frnn-quiet
 python3 - "$lines" <<'PY'
 import json, sys
-rows = [json.loads(l) for l in open(sys.argv[1])]
+everything = [json.loads(l) for l in open(sys.argv[1])]
+rows = [r for r in everything if not r.get("weak")]
 one = {(r["workload"], r["n"]): r for r in rows if r["ranks"] == 1}
 print("| workload | N | ranks | rebuild ms | efficiency | exchange ms | local ms (grid + lists) | bytes/particle (ghosts) | ghost fraction | pairs | single-process grid ms |")
 print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -58,6 +66,11 @@ for r in rows:
           f'| {r["workload"]} | {r["n"]:,} | {p}{mark} | {r["step_ms"]:.1f} | {eff:.0%} | {r["exchange_ms"]:.1f} | '
           f'{r["local_ms"]:.1f} ({r["grid_ms"]:.1f} + {r["lists_ms"]:.1f}) | {r["bytes_per_particle"]:.2f} '
           f'({r["halo_bytes_per_particle"]:.2f}) | {r["ghost_fraction"]:.4f} | {r["pairs"]:,.0f}{void} | |')
+print()
+for half in (r for r in everything if r.get("weak")):
+    two = next(r for r in rows if r["workload"] == "W2" and r["ranks"] == 2 and r["n"] == 2 * half["n"])
+    print(f'Weak scaling, W2 at {half["n"]:,} points per rank: 1 rank {half["step_ms"]:.1f} ms, 2 ranks '
+          f'{two["step_ms"]:.1f} ms, efficiency {half["step_ms"] / two["step_ms"]:.0%}')
 print()
 for r in rows:
     if r["ranks"] > 1:
