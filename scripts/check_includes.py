@@ -30,8 +30,8 @@ RULES = {
     "src/vulkan": [CORE, VULKAN, r"core/(kind_policy|cell_rules)\.hpp", LOCAL],
     "sim": [CORE, r"frnn/sim/.*", IO_FILES, LOCAL],
     "python/src": [CORE, VULKAN, LOCAL],
-    "bench": [CORE, VULKAN, r"frnn/bench/.*", IO_FILES, r"frnn/sim/.*"],
-    "apps": [CORE, VULKAN, r"frnn/(io|sim|bench)/.*", LOCAL],
+    "bench": [CORE, VULKAN, MPI, r"frnn/bench/.*", IO_FILES, r"frnn/sim/.*"],
+    "apps": [CORE, VULKAN, MPI, r"frnn/(io|sim|bench)/.*", LOCAL],
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 

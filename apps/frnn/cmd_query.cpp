@@ -4,7 +4,6 @@
 #ifdef FRNN_IO_AVAILABLE
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -14,6 +13,8 @@
 #include <vector>
 
 #include "command.hpp"
+#include "query_args.hpp"
+#include "query_mpi.hpp"
 #include "validators.hpp"
 #include "frnn/bench/workloads.hpp"
 #include "frnn/grid.hpp"
@@ -24,40 +25,6 @@
 #endif
 
 namespace frnn::app {
-namespace {
-
-struct query_args {
-    std::string input, output, queries, generate, grid = "auto", periodic;
-    double radius = 0, cell_size = 0;
-    std::size_t knn = 0;
-    int threads = 0, dim = 3;
-    std::uint64_t seed = 42;
-    std::string backend = "cpu";
-    bool self = false, json = false;
-};
-
-// What the summary reports.
-struct query_report {
-    std::size_t points = 0, query_points = 0, slots = 0, occupied = 0, max_neighbors = 0;
-    int dimension = 3, threads = 1;
-    std::string precision, grid;
-    double cell_size = 0, mean_neighbors = 0;
-    std::uint64_t pairs = 0;
-    double read_ms = 0, build_ms = 0, query_ms = 0, write_ms = 0;
-};
-
-class stopwatch {
-public:
-    double lap_ms() {
-        const auto now = std::chrono::steady_clock::now();
-        const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
-        last_ = now;
-        return ms;
-    }
-
-private:
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 std::vector<double> parse_periodic(const std::string& text) {
     std::vector<double> lengths;
@@ -99,19 +66,6 @@ io::point_set generate_points(const std::string& spec, int dim, std::uint64_t se
     return points;
 }
 
-// k-nearest rows come sorted by distance; files list every row by neighbor index.
-template <class T>
-void sort_rows_by_index(csr<T>& lists) {
-    std::vector<std::pair<std::uint32_t, T>> row;
-    for (std::size_t i = 0; i < lists.rows(); ++i) {
-        const std::uint64_t b = lists.offsets[i], e = lists.offsets[i + 1];
-        row.clear();
-        for (std::uint64_t k = b; k < e; ++k) row.emplace_back(lists.indices[k], lists.distances[k]);
-        std::sort(row.begin(), row.end());
-        for (std::uint64_t k = b; k < e; ++k) std::tie(lists.indices[k], lists.distances[k]) = row[k - b];
-    }
-}
-
 void check_usage(const query_args& a) {
     if (a.input.empty() == a.generate.empty())
         throw CLI::ValidationError("INPUT", "give exactly one of an INPUT file or --generate");
@@ -129,6 +83,41 @@ void check_usage(const query_args& a) {
         throw CLI::ValidationError("--cell-size", "must lie between radius/4 and the radius");
     if (a.self && !a.queries.empty())
         throw CLI::ValidationError("--self", "does not apply with --queries (query points are not data points)");
+}
+
+void check_periodic(const std::vector<double>& periodic, int dimension, double radius) {
+    if (periodic.empty()) return;
+    if (periodic.size() != std::size_t(dimension))
+        throw CLI::ValidationError("--periodic", "needs " + std::to_string(dimension) + " box lengths for " +
+                                                     std::to_string(dimension) + "-D points, got " +
+                                                     std::to_string(periodic.size()));
+    for (double length : periodic)
+        if (length < 2 * radius) throw CLI::ValidationError("--periodic", "every box length must be at least 2 * radius");
+}
+
+namespace {
+
+// What the summary reports.
+struct query_report {
+    std::size_t points = 0, query_points = 0, slots = 0, occupied = 0, max_neighbors = 0;
+    int dimension = 3, threads = 1;
+    std::string precision, grid;
+    double cell_size = 0, mean_neighbors = 0;
+    std::uint64_t pairs = 0;
+    double read_ms = 0, build_ms = 0, query_ms = 0, write_ms = 0;
+};
+
+// k-nearest rows come sorted by distance; files list every row by neighbor index.
+template <class T>
+void sort_rows_by_index(csr<T>& lists) {
+    std::vector<std::pair<std::uint32_t, T>> row;
+    for (std::size_t i = 0; i < lists.rows(); ++i) {
+        const std::uint64_t b = lists.offsets[i], e = lists.offsets[i + 1];
+        row.clear();
+        for (std::uint64_t k = b; k < e; ++k) row.emplace_back(lists.indices[k], lists.distances[k]);
+        std::sort(row.begin(), row.end());
+        for (std::uint64_t k = b; k < e; ++k) std::tie(lists.indices[k], lists.distances[k]) = row[k - b];
+    }
 }
 
 void print_report(const query_args& a, const query_report& r) {
@@ -239,6 +228,7 @@ void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& qu
 }
 
 void run_query(const query_args& a) {
+    if (launched_by_mpirun()) return run_query_mpi(a);
     check_usage(a);
     const std::vector<double> periodic = a.periodic.empty() ? std::vector<double>{} : parse_periodic(a.periodic);
     query_report r;
@@ -254,15 +244,7 @@ void run_query(const query_args& a) {
         queries.dimension = data.dimension;
         queries.convert_to(data.type());  // distances in the data's precision
     }
-    if (!periodic.empty()) {
-        if (periodic.size() != std::size_t(data.dimension))
-            throw CLI::ValidationError("--periodic", "needs " + std::to_string(data.dimension) +
-                                                         " box lengths for " + std::to_string(data.dimension) +
-                                                         "-D points, got " + std::to_string(periodic.size()));
-        for (double length : periodic)
-            if (length < 2 * a.radius)
-                throw CLI::ValidationError("--periodic", "every box length must be at least 2 * radius");
-    }
+    check_periodic(periodic, data.dimension, a.radius);
     r.read_ms = clock.lap_ms();
     r.query_points = a.queries.empty() ? 0 : queries.size();
     if (a.backend == "vulkan") {

@@ -18,10 +18,11 @@ struct command {
 
 std::vector<command>& commands();
 
-/// Thrown by a command to end the tool with `code` after printing `message` on stderr: for
-/// outcomes that are neither success (0) nor an error (1), such as `frnn validate`'s 3.
+/// Thrown by a command to end the tool with `code`: for outcomes that are neither success (0)
+/// nor an error main should print (such as `frnn validate`'s 3), and for errors the command
+/// has printed itself (once for all MPI ranks). main prints `message` when it is not empty.
 struct exit_status {
-    int code;
+    int code = 1;
     std::string message;
 };
 

@@ -25,12 +25,12 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
+    } catch (const frnn::app::exit_status& e) {
+        if (!e.message.empty()) std::fprintf(stderr, "frnn: %s\n", e.message.c_str());
+        return e.code;
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "frnn: %s\n", e.what());
         return 2;
-    } catch (const frnn::app::exit_status& e) {
-        std::fprintf(stderr, "frnn: %s\n", e.message.c_str());
-        return e.code;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "frnn: error: %s\n", e.what());
         return 1;

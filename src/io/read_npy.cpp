@@ -20,21 +20,31 @@ std::string shape_text(const std::vector<std::uint64_t>& shape) {
     return s + (shape.size() == 1 ? ",)" : ")");
 }
 
+/// Rows [begin, end) of the (n, d) array whose data starts at byte h.data_offset.
 template <class T>
-std::vector<T> read_data(std::FILE* f, const npy_header& h, std::string_view name) {
-    const std::size_t n = h.shape[0], d = h.shape[1];
-    std::vector<T> values(n * d);
-    if (std::fread(values.data(), sizeof(T), values.size(), f) != values.size())
-        detail::fail(name, std::string("read error in the data: ") + std::strerror(errno));
+std::vector<T> read_rows(std::FILE* f, const npy_header& h, std::uint64_t begin, std::uint64_t end,
+                         std::string_view name) {
+    const std::uint64_t n = h.shape[0], d = h.shape[1], rows = end - begin;
+    std::vector<T> values(rows * d);
+    // C order: the rows lie together; Fortran order: all x, then all y, then all z.
+    const std::uint64_t runs = h.fortran_order ? d : 1, run = h.fortran_order ? rows : rows * d;
+    for (std::uint64_t a = 0; a < runs; ++a) {
+        const std::uint64_t at = h.data_offset + (h.fortran_order ? a * n + begin : begin * d) * sizeof(T);
+        if (std::fseek(f, long(at), SEEK_SET) != 0) detail::fail(name, "cannot seek to byte " + std::to_string(at));
+        if (std::fread(values.data() + a * run, sizeof(T), run, f) != run)
+            detail::fail(name, std::string("read error in the data: ") + std::strerror(errno));
+    }
     if (!h.fortran_order) return values;
-    std::vector<T> interleaved(values.size());  // file holds all x, then all y, then all z
-    for (std::size_t a = 0; a < d; ++a)
-        for (std::size_t i = 0; i < n; ++i) interleaved[i * d + a] = values[a * n + i];
+    std::vector<T> interleaved(values.size());
+    for (std::uint64_t a = 0; a < d; ++a)
+        for (std::uint64_t i = 0; i < rows; ++i) interleaved[i * d + a] = values[a * rows + i];
     return interleaved;
 }
 }  // namespace
 
-point_set read_npy_points(const std::filesystem::path& file) {
+point_set read_npy_points(const std::filesystem::path& file) { return read_npy_slice(file, 0, 1).points; }
+
+point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts) {
     const std::string name = file.string();
     file_ptr f(std::fopen(name.c_str(), "rb"), std::fclose);
     if (!f) detail::fail(name, std::string("cannot open: ") + std::strerror(errno));
@@ -60,10 +70,6 @@ point_set read_npy_points(const std::filesystem::path& file) {
     if (total > have && std::fread(head.data() + have, 1, total - have, f.get()) != total - have)
         detail::fail(name, "read error in the header");
     const npy_header h = parse_npy_header(head, name);
-    // Position the stream at the data (version-1 headers were over-read by two bytes).
-    if (std::fseek(f.get(), long(h.data_offset), SEEK_SET) != 0)
-        detail::fail(name, "cannot seek to the data");
-
     const bool f32 = h.descr == "<f4", f64 = h.descr == "<f8";
     if (!f32 && !f64) {
         const bool big = !h.descr.empty() && h.descr[0] == '>';
@@ -89,15 +95,19 @@ point_set read_npy_points(const std::filesystem::path& file) {
                                std::to_string(avail - need) +
                                " unexpected bytes after the data of shape " + shape_text(h.shape));
 
-    point_set points;
+    point_slice slice;
+    slice.total = n;
+    slice.first = slice_start(n, part, parts);
+    const std::uint64_t end = slice_start(n, part + 1, parts);
+    point_set& points = slice.points;
     points.dimension = int(h.shape[1]);
     if (f32)
-        points.coords = read_data<float>(f.get(), h, name);
+        points.coords = read_rows<float>(f.get(), h, slice.first, end, name);
     else
-        points.coords = read_data<double>(f.get(), h, name);
-    std::visit([&](const auto& v) { detail::check_finite(std::span(v), points.dimension, name); },
+        points.coords = read_rows<double>(f.get(), h, slice.first, end, name);
+    std::visit([&](const auto& v) { detail::check_finite(std::span(v), points.dimension, name, slice.first); },
                points.coords);
-    return points;
+    return slice;
 }
 
 }  // namespace frnn::io

@@ -36,12 +36,13 @@ std::size_t first_non_finite(std::span<const T> values) {
     return values.size();
 }
 
-/// Throws naming the point index when a coordinate is not finite.
+/// Throws naming the point index when a coordinate is not finite; `first_point` is the index of
+/// the first point of `coords` in its file.
 template <class T>
-void check_finite(std::span<const T> coords, int dimension, std::string_view name) {
+void check_finite(std::span<const T> coords, int dimension, std::string_view name, std::uint64_t first_point = 0) {
     const std::size_t k = first_non_finite(coords);
     if (k == coords.size()) return;
-    fail(name, "point " + std::to_string(k / std::size_t(dimension)) +
+    fail(name, "point " + std::to_string(first_point + k / std::size_t(dimension)) +
                    " has a non-finite coordinate (" + std::to_string(coords[k]) + ")");
 }
 

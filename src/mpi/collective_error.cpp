@@ -18,7 +18,7 @@ void throw_if_any(MPI_Comm comm, const std::string& local_error) {
     MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, first, comm);
     std::string message = rank == first ? local_error : std::string(length, ' ');
     MPI_Bcast(message.data(), int(length), MPI_CHAR, first, comm);
-    throw error("rank " + std::to_string(first) + ": " + message);
+    throw collective_error("rank " + std::to_string(first) + ": " + message);
 }
 
 void require_same(MPI_Comm comm, std::span<const double> values, const std::string& what) {

@@ -125,6 +125,16 @@ communication_plan::communication_plan(MPI_Comm comm, std::span<const int> desti
     }
 }
 
+std::size_t communication_plan::remote_export_size() const {
+    if (comm_ == MPI_COMM_NULL) return 0;
+    int rank = 0;
+    MPI_Comm_rank(comm_, &rank);
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < export_ranks_.size(); ++k)
+        if (export_ranks_[k] != rank) n += export_offsets_[k + 1] - export_offsets_[k];
+    return n;
+}
+
 pending communication_plan::forward(const std::byte* values, std::size_t bytes, std::byte* imports) const {
     std::vector<std::byte> packed(export_size() * bytes);
     for (std::size_t k = 0; k < export_index_.size(); ++k)

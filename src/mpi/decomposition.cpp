@@ -55,7 +55,7 @@ decomposition<T, D>::decomposition(MPI_Comm comm, std::span<const T> coords, dou
     unsigned long long local = n, total = 0;
     MPI_Allreduce(&local, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
     if (total < static_cast<unsigned long long>(size))
-        throw error("more ranks (" + std::to_string(size) + ") than particles (" + std::to_string(total) +
+        throw collective_error("more ranks (" + std::to_string(size) + ") than particles (" + std::to_string(total) +
                     "): every rank needs at least one");
 
     std::vector<std::int64_t> cells(n * D);

@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 
+#include "frnn/detail/stopwatch.hpp"
 #include "frnn/mpi/collective_error.hpp"
 #include "frnn/search_scale.hpp"
 #include "mpi/check_points.hpp"
@@ -31,6 +32,8 @@ std::string check_options(T radius, const domain_options& o) {
                    std::to_string(2 * (double(radius) + o.skin));
     return {};
 }
+
+using detail::stopwatch;
 
 }  // namespace
 
@@ -83,15 +86,20 @@ const distributor& domain<T, D>::balance(std::vector<T>& coords, std::vector<std
         MPI_Reduce_scatter_block(owned.data(), &mine, 1, MPI_DOUBLE, MPI_SUM, comm_);
         again = imbalance(comm_, mine) > options_.imbalance;
     }
+    stopwatch clock;
+    stats_ = {};
     if (again) {
         cuts_ = decomposition<T, D>(comm_, coords, double(radius_), options_.periodic,
                                     weights ? std::span<const double>(*weights) : std::span<const double>());
         have_cuts_ = true;
     }
+    stats_.decompose_ms = clock.lap_ms();
     moved_ = distributor(comm_, cuts_.owners(coords));
     coords = moved_.migrate(std::span<const T>(coords), D);
     ids = moved_.migrate(std::span<const std::uint64_t>(ids));
     if (weights) *weights = moved_.migrate(std::span<const double>(*weights));
+    stats_.migrate_ms = clock.lap_ms();
+    stats_.migrate_bytes = moved_.plan().remote_export_size() * (D * sizeof(T) + sizeof(std::uint64_t) + (weights ? sizeof(double) : 0));
     return moved_;
 }
 
@@ -109,6 +117,7 @@ void domain<T, D>::build(std::span<const T> coords, std::span<const std::uint64_
             problem = "build: particle " + std::to_string(i) + " (id " + std::to_string(ids[i]) +
                       ") lies outside this rank's sub-domain: balance first";
     throw_if_any(comm_, problem);
+    stopwatch clock;
     // The single-process search scale, from every rank's largest coordinate.
     T largest = largest_magnitude<T>(coords, options_.periodic);
     MPI_Allreduce(MPI_IN_PLACE, &largest, 1, sizeof(T) == 4 ? MPI_FLOAT : MPI_DOUBLE, MPI_MAX, comm_);
@@ -126,7 +135,11 @@ void domain<T, D>::build(std::span<const T> coords, std::span<const std::uint64_
     halo_.gather(std::span<std::uint64_t>(ids_));
     coordinates.finish();
     built_.assign(coords.begin(), coords.end());
+    stats_.halo_ms = clock.lap_ms();
+    // Each ghost's image (D bytes) with the plan, then its coordinates and id.
+    stats_.halo_bytes = halo_.plan().remote_export_size() * (D + D * sizeof(T) + sizeof(std::uint64_t));
     build_grid();
+    stats_.grid_ms = clock.lap_ms();
 }
 
 template <class T, int D>
@@ -149,9 +162,14 @@ bool domain<T, D>::update(std::span<const T> coords) {
     }
     MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_INT, MPI_MAX, comm_);
     if (moved) return false;
+    stopwatch clock;
     std::copy(coords.begin(), coords.end(), raw_.begin());
     halo_.gather(std::span<T>(raw_), D);
+    stats_ = {};
+    stats_.halo_ms = clock.lap_ms();
+    stats_.halo_bytes = halo_.plan().remote_export_size() * D * sizeof(T);
     build_grid();
+    stats_.grid_ms = clock.lap_ms();
     return true;
 }
 
@@ -174,6 +192,8 @@ csr<T> domain<T, D>::neighbor_lists(bool distances) const {
     const std::span<const std::int8_t> images = halo_.ghost_images();
     csr<T> out;
     out.offsets.assign(n + 1, 0);
+    out.indices.reserve(candidates.size());  // growing it would fault in its pages again and again
+    if (distances) out.distances.reserve(candidates.size());
     for (std::size_t i = 0; i < n; ++i) {
         const T* xi = &raw_[i * D];
         for (std::uint32_t j : candidates.row(i)) {

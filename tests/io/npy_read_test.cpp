@@ -53,6 +53,36 @@ TEST(npy_read, fortran_order_is_transposed) {
         for (std::size_t a = 0; a < 3; ++a) EXPECT_EQ(c[i * 3 + a], columns[a * 4 + i]);
 }
 
+// The slices of MPI ranks: consecutive, nearly equal, together the whole file, in C and
+// Fortran order; a NaN is named by its index in the file.
+TEST(npy_read, slices_cover_the_file_in_both_orders) {
+    const auto dir = fresh_dir();
+    const std::vector<double> c = random_values<double>(7 * 3, 9);
+    std::vector<double> columns(c.size());
+    for (std::size_t i = 0; i < 7; ++i)
+        for (std::size_t a = 0; a < 3; ++a) columns[a * 7 + i] = c[i * 3 + a];
+    write_bytes(dir / "c.npy", npy_bytes("{'descr': '<f8', 'fortran_order': False, 'shape': (7, 3), }", raw(c)));
+    write_bytes(dir / "f.npy", npy_bytes("{'descr': '<f8', 'fortran_order': True, 'shape': (7, 3), }", raw(columns)));
+    for (const char* file : {"c.npy", "f.npy"})
+        for (std::uint64_t parts : {1, 2, 3, 4, 9}) {
+            std::vector<double> joined;
+            for (std::uint64_t k = 0; k < parts; ++k) {
+                const io::point_slice s = io::read_npy_slice(dir / file, k, parts);
+                EXPECT_EQ(s.total, 7u);
+                EXPECT_EQ(s.first, 7 * k / parts);
+                EXPECT_EQ(s.points.size(), 7 * (k + 1) / parts - 7 * k / parts);
+                const auto& v = std::get<std::vector<double>>(s.points.coords);
+                joined.insert(joined.end(), v.begin(), v.end());
+            }
+            EXPECT_EQ(joined, c) << file << " in " << parts << " slices";
+        }
+    std::vector<double> bad = c;
+    bad[5 * 3 + 1] = std::nan("");
+    write_bytes(dir / "n.npy", npy_bytes("{'descr': '<f8', 'fortran_order': False, 'shape': (7, 3), }", raw(bad)));
+    EXPECT_NO_THROW((void)io::read_npy_slice(dir / "n.npy", 0, 2));
+    expect_error([&] { (void)io::read_npy_slice(dir / "n.npy", 1, 2); }, {"n.npy", "point 5 has a non-finite coordinate"});
+}
+
 TEST(npy_read, version_2_header_and_double_quotes) {
     const auto dir = fresh_dir();
     const std::vector<float> v = {1, 2, 3, 4};

@@ -56,6 +56,8 @@ public:
     MPI_Comm comm() const { return comm_; }
     std::size_t export_size() const { return export_index_.size(); }
     std::size_t import_size() const { return import_offsets_.empty() ? 0 : import_offsets_.back(); }
+    /// Exports to ranks other than this one (those a network would carry).
+    std::size_t remote_export_size() const;
     /// Local indices of the exports, grouped by destination rank.
     std::span<const std::uint32_t> export_indices() const { return export_index_; }
     /// Destination ranks with their first export (export_offsets()[k] .. [k + 1]).

@@ -48,6 +48,17 @@ struct domain_options {
     int threads = 0;               ///< the local grid's threads (0: frnn::default_thread_count())
 };
 
+/// What the last balance() and build() (or update()) cost on this rank, for reports and
+/// benchmarks: wall times and the bytes sent to other ranks (the payload of the messages; the
+/// counts of each plan's MPI_Alltoall and the reductions of the cut are not included).
+struct domain_stats {
+    double decompose_ms = 0;  ///< cutting space (reductions on every level); 0 when the cuts were kept
+    double migrate_ms = 0;    ///< moving particles and ids to their owners
+    double halo_ms = 0;       ///< the ghost plan and the ghosts' coordinates and ids
+    double grid_ms = 0;       ///< the local grid over local + ghost particles (no messages)
+    std::uint64_t migrate_bytes = 0, halo_bytes = 0;
+};
+
 template <class T, int D>
 class domain {
 public:
@@ -74,6 +85,7 @@ public:
     T radius() const { return radius_; }
     const decomposition<T, D>& cuts() const { return cuts_; }
     const frnn::mpi::halo<T, D>& halo() const { return halo_; }
+    const domain_stats& stats() const { return stats_; }
     std::size_t local_size() const { return halo_.local_size(); }
     std::size_t ghost_size() const { return halo_.ghost_size(); }
     /// Local then ghost particles: coordinates (ghosts shifted by their images) and ids.
@@ -103,6 +115,7 @@ private:
     std::vector<T> built_;      // local coordinates at the last build
     std::vector<std::uint64_t> ids_;
     grid<T, D> grid_;
+    domain_stats stats_;
 };
 
 extern template class domain<float, 2>;

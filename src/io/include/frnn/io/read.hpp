@@ -23,6 +23,21 @@ point_set read_points(const std::filesystem::path& file);
 bool is_point_file(const std::filesystem::path& file);
 
 point_set read_npy_points(const std::filesystem::path& file);
+/// Rows [first, first + points.size()) of an .npy point file of `total` rows.
+struct point_slice {
+    point_set points;
+    std::uint64_t first = 0, total = 0;
+};
+/// The first row of slice `part` of `parts` nearly equal slices of n rows: n * part / parts
+/// (computed without overflowing n * part).
+inline std::uint64_t slice_start(std::uint64_t n, std::uint64_t part, std::uint64_t parts) {
+    return n / parts * part + n % parts * part / parts;
+}
+/// Slice `part` of `parts` (rows slice_start(total, part, parts) up to that of part + 1): reads
+/// the header and only those rows' bytes, so that each MPI rank reads its own share of a file.
+/// Checks the whole file's header and size as read_npy_points does; a non-finite coordinate is
+/// named by its index in the file.
+point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts);
 point_set read_text_points(const std::filesystem::path& file);
 point_set read_ply_points(const std::filesystem::path& file);
 

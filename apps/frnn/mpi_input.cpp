@@ -1,0 +1,102 @@
+// Reading the input of a distributed query: offset reads of .npy, rank 0's read and a scatter
+// for the other formats, every rank's own copy of a generated set.
+#include "mpi_input.hpp"
+
+#include <climits>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "frnn/io/read.hpp"
+#include "frnn/mpi/collective_error.hpp"
+
+namespace frnn::app {
+namespace {
+
+template <class T>
+MPI_Datatype mpi_type() {
+    return sizeof(T) == 4 ? MPI_FLOAT : MPI_DOUBLE;
+}
+
+/// Rank 0 holds `all` (the other ranks an empty set): each rank receives its slice.
+input_slice scatter(MPI_Comm comm, const io::point_set& all) {
+    int rank = 0, size = 0;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    std::uint64_t head[3] = {std::uint64_t(all.dimension), all.type() == io::precision::f32, all.size()};
+    MPI_Bcast(head, 3, MPI_UINT64_T, 0, comm);
+    input_slice s;
+    s.total = head[2];
+    s.first = io::slice_start(s.total, std::uint64_t(rank), std::uint64_t(size));
+    s.points.dimension = int(head[0]);
+    const std::uint64_t d = head[0];
+    std::vector<int> counts(static_cast<std::size_t>(size)), starts(static_cast<std::size_t>(size));
+    bool fits = s.total * d <= std::uint64_t(INT_MAX);
+    for (int r = 0; r < size && fits; ++r) {
+        starts[std::size_t(r)] = int(io::slice_start(s.total, std::uint64_t(r), std::uint64_t(size)) * d);
+        counts[std::size_t(r)] = int(io::slice_start(s.total, std::uint64_t(r) + 1, std::uint64_t(size)) * d) - starts[std::size_t(r)];
+    }
+    // The same on every rank: MPI_Scatterv counts in int.
+    mpi::throw_if_any(comm, fits ? "" : "the input's " + std::to_string(s.total) + " points are too many to scatter "
+                                         "from rank 0 (2^31 coordinates); give them as .npy, which every rank reads itself");
+    auto receive = [&]<class T>() {
+        std::vector<T> mine(static_cast<std::size_t>(counts[std::size_t(rank)]));
+        const T* from = rank == 0 ? std::get<std::vector<T>>(all.coords).data() : nullptr;
+        MPI_Scatterv(from, counts.data(), starts.data(), mpi_type<T>(), mine.data(), counts[std::size_t(rank)],
+                     mpi_type<T>(), 0, comm);
+        s.points.coords = std::move(mine);
+    };
+    if (head[1]) receive.template operator()<float>();
+    else receive.template operator()<double>();
+    return s;
+}
+
+/// Every rank's slice of the same set.
+input_slice keep_slice(MPI_Comm comm, io::point_set all) {
+    int rank = 0, size = 0;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    input_slice s;
+    s.total = all.size();
+    s.first = io::slice_start(s.total, std::uint64_t(rank), std::uint64_t(size));
+    const std::uint64_t end = io::slice_start(s.total, std::uint64_t(rank) + 1, std::uint64_t(size)), d = std::uint64_t(all.dimension);
+    s.points.dimension = all.dimension;
+    std::visit([&](auto& v) {
+        using V = std::decay_t<decltype(v)>;
+        s.points.coords = V(v.begin() + std::ptrdiff_t(s.first * d), v.begin() + std::ptrdiff_t(end * d));
+    }, all.coords);
+    return s;
+}
+
+}  // namespace
+
+input_slice read_input_slice(MPI_Comm comm, const query_args& a) {
+    if (!a.generate.empty()) return keep_slice(comm, generate_points(a.generate, a.dim, a.seed));
+    int rank = 0, size = 0;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    std::string problem;
+    if (lower_extension(a.input) == ".npy") {
+        input_slice s;
+        try {
+            io::point_slice p = io::read_npy_slice(a.input, std::uint64_t(rank), std::uint64_t(size));
+            s = {std::move(p.points), p.first, p.total};
+        } catch (const std::exception& e) {
+            problem = e.what();
+        }
+        mpi::throw_if_any(comm, problem);
+        return s;
+    }
+    io::point_set all;
+    if (rank == 0) {
+        try {
+            all = io::read_points(a.input);
+        } catch (const std::exception& e) {
+            problem = e.what();
+        }
+    }
+    mpi::throw_if_any(comm, problem);
+    return scatter(comm, all);
+}
+
+}  // namespace frnn::app

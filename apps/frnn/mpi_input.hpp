@@ -1,0 +1,27 @@
+// This rank's share of the points of a distributed `frnn query`: rows [first, first + size) of
+// the input, in the nearly equal slices read_npy_slice defines (total * rank / ranks ...).
+//   .npy        every rank reads the header and its own rows' bytes (plain offset reads);
+//   other files rank 0 reads the whole file and scatters the slices (text and .ply rows have no
+//               fixed size to seek to);
+//   --generate  every rank draws the whole set (the generators are cheap and deterministic) and
+//               keeps its slice.
+// Bad input throws frnn::mpi::collective_error on every rank (CLI::ValidationError for a bad
+// --generate, on every rank alike).
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+
+#include "frnn/io/point_set.hpp"
+#include "query_args.hpp"
+
+namespace frnn::app {
+
+struct input_slice {
+    io::point_set points;
+    std::uint64_t first = 0, total = 0;
+};
+
+input_slice read_input_slice(MPI_Comm comm, const query_args& a);
+
+}  // namespace frnn::app

@@ -1,0 +1,43 @@
+// The options of `frnn query` and the helpers its single-process path (cmd_query.cpp) and its
+// distributed path under mpirun (query_mpi.cpp) share.
+#pragma once
+#include <cctype>
+#include <filesystem>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "frnn/detail/stopwatch.hpp"
+#include "frnn/io/point_set.hpp"
+
+namespace frnn::app {
+
+struct query_args {
+    std::string input, output, queries, generate, grid = "auto", periodic;
+    double radius = 0, cell_size = 0;
+    std::size_t knn = 0;
+    int threads = 0, dim = 3;
+    std::uint64_t seed = 42;
+    std::string backend = "cpu";
+    bool self = false, json = false;
+};
+
+using detail::stopwatch;
+
+/// The extension of `file`, lower case, with its dot (".npy").
+inline std::string lower_extension(const std::string& file) {
+    std::string ext = std::filesystem::path(file).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+/// --periodic LX,LY[,LZ] as lengths; CLI::ValidationError when malformed.
+std::vector<double> parse_periodic(const std::string& text);
+/// The points of --generate (lattice:N or uniform:N), as `frnn bench` draws its workloads.
+io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed);
+/// Options that do not go together, unknown extensions: CLI::ValidationError (exit 2).
+void check_usage(const query_args& a);
+/// One box length per dimension, each at least 2 * radius: CLI::ValidationError otherwise.
+void check_periodic(const std::vector<double>& periodic, int dimension, double radius);
+
+}  // namespace frnn::app

@@ -1,0 +1,186 @@
+// `mpirun -np P frnn query`: the output file is byte-identical to the single-process tool's at
+// P = 1..4 on every oracle set and through every reading path (.npy slices in C and Fortran
+// order, files read on rank 0 and scattered); the --json summary adds up; bad input stops every
+// rank with one clear message and no file; a killed rank ends the job within seconds.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "cli/run_tool.hpp"
+#include "oracle/point_sets.hpp"
+#include "scratch_dir.hpp"
+
+namespace frnn::test {
+namespace {
+
+const std::string mpirun = "'" FRNN_MPIEXEC "' --oversubscribe --allow-run-as-root";
+const std::string tool = "'" FRNN_TOOL_PATH "'";
+
+/// `mpirun -np P frnn <args>` in `dir`, one thread per rank.
+command_result run_mpi(const std::filesystem::path& dir, int ranks, const std::string& args) {
+    return run_command(dir, "FRNN_NUM_THREADS=1 OMP_NUM_THREADS=1 " + mpirun + " -np " + std::to_string(ranks) +
+                                " " + tool + " " + args);
+}
+
+/// The names in `dir`, sorted: what a failed run must leave is only what was there before.
+std::vector<std::string> listing(const std::filesystem::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+std::size_t occurrences(const std::string& text, const std::string& part) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+    return n;
+}
+
+/// Writes `points` as `input`, runs the serial tool and mpirun at 1..4 ranks with `options`,
+/// and compares the output files byte for byte.
+template <class T, int D>
+void expect_same_files(const char* name, const std::vector<T>& points, const std::string& input, const std::string& output,
+                       const std::string& options, bool fortran_order = false) {
+    SCOPED_TRACE(name);
+    const scratch_dir dir(std::string("mpi_cli_") + name);
+    if (fortran_order) {
+        // All x, then all y (then all z): each rank reads its rows from D places.
+        const std::size_t n = points.size() / D;
+        std::string columns;
+        for (std::size_t a = 0; a < D; ++a)
+            for (std::size_t i = 0; i < n; ++i) put(columns, points[i * D + a]);
+        write_bytes(dir / input, npy_bytes(std::string("{'descr': '") + (sizeof(T) == 4 ? "<f4" : "<f8") +
+                                               "', 'fortran_order': True, 'shape': (" + std::to_string(n) + ", " +
+                                               std::to_string(D) + "), }",
+                                           columns));
+    } else {
+        write_points<T, D>(dir / input, points);
+    }
+    const tool_result serial = run_tool(dir, "query " + input + " " + options + " -o serial" + output);
+    ASSERT_EQ(serial.code, 0) << serial.err;
+    const std::string expected = read_bytes(dir / ("serial" + output));
+    for (int ranks = 1; ranks <= 4; ++ranks) {
+        const std::string file = "mpi" + std::to_string(ranks) + output;
+        const command_result r = run_mpi(dir, ranks, "query " + input + " " + options + " -o " + file);
+        ASSERT_EQ(r.code, 0) << ranks << " ranks: " << r.err;
+        const std::string found = read_bytes(dir / file);
+        EXPECT_TRUE(found == expected) << ranks << " ranks: " << file << " (" << found.size()
+                                       << " bytes) differs from the single-process file (" << expected.size() << " bytes)";
+    }
+}
+
+TEST(MpiCli, OutputIsTheSingleProcessFileOnEveryOracleSet) {
+    expect_same_files<float, 3>("random", uniform_points<float, 3>(3000, 0, 12, 61), "in.npy", ".npy", "-r 1");
+    expect_same_files<double, 2>("clustered", clustered_points<double, 2>(2000, 6, 0.4, 0, 10, 62), "in.csv", ".csv",
+                                 "-r 0.25");
+    std::vector<double> box_points = uniform_points<double, 3>(1500, 0, 1, 63);
+    const double box[3] = {8, 6, 7};
+    for (std::size_t i = 0; i < box_points.size(); ++i) box_points[i] = std::min(box_points[i] * box[i % 3], box[i % 3] * 0.999999);
+    expect_same_files<double, 3>("periodic", box_points, "in.npy", ".npz", "-r 1.1 --periodic 8,6,7");
+    std::vector<double> outliers = uniform_points<double, 3>(600, 0, 5, 64);
+    append_point<double, 3>(outliers, 1e6);
+    append_point<double, 3>(outliers, -1e6);
+    append_point<double, 3>(outliers, 1e6 + 0.25);
+    expect_same_files<double, 3>("outliers", outliers, "in.ply", ".csv", "-r 0.5");
+    expect_same_files<float, 2>("duplicates", with_duplicates(uniform_points<float, 2>(250, 0, 4, 65), 2, 3), "in.npy",
+                                ".npz", "-r 0.5");
+    expect_same_files<double, 3>("lattice", lattice_points<double, 3>(8, 1.0), "in.xyz", ".csv", "-r 1");
+    expect_same_files<double, 2>("periodic_lattice", lattice_points<double, 2>(12, 1.0), "in.npy", ".npy",
+                                 "-r 1 --periodic 12,12");
+    expect_same_files<double, 2>("fortran_order", uniform_points<double, 2>(1000, 0, 10, 68), "in.npy", ".csv", "-r 0.6",
+                                 true);
+}
+
+TEST(MpiCli, JsonSummaryAddsUp) {
+    const scratch_dir dir("mpi_cli_json");
+    const tool_result serial = run_tool(dir, "query --generate lattice:12 -r 2 --json");
+    ASSERT_EQ(serial.code, 0) << serial.err;
+    const command_result r = run_mpi(dir, 3, "query --generate lattice:12 -r 2 --json -o pairs.npy");
+    ASSERT_EQ(r.code, 0) << r.err;
+    // One document, from rank 0 only.
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["ranks"], 3);
+    EXPECT_EQ(j["points"], 1728);
+    EXPECT_EQ(j["pairs"], nlohmann::json::parse(serial.out)["pairs"]);
+    EXPECT_EQ(j["output"], "pairs.npy");
+    ASSERT_EQ(j["per_rank"].size(), 3u);
+    std::uint64_t particles = 0, pairs = 0;
+    for (int k = 0; k < 3; ++k) {
+        const nlohmann::json& rank = j["per_rank"][std::size_t(k)];
+        EXPECT_EQ(rank["rank"], k);
+        particles += rank["particles"].get<std::uint64_t>();
+        pairs += rank["pairs"].get<std::uint64_t>();
+        EXPECT_GT(rank["ghosts"].get<std::uint64_t>(), 0u);
+        EXPECT_GT(rank["bytes_sent"]["halo"].get<std::uint64_t>(), 0u);
+        for (const char* phase : {"decompose", "migrate", "halo"}) EXPECT_GE(rank["exchange_ms"][phase].get<double>(), 0.0);
+        for (const char* phase : {"grid", "lists"}) EXPECT_GE(rank["local_ms"][phase].get<double>(), 0.0);
+    }
+    EXPECT_EQ(particles, 1728u);
+    EXPECT_EQ(pairs, j["pairs"].get<std::uint64_t>());
+}
+
+/// A run that must fail with exit code `code` and `message` printed once.
+void expect_failure(const command_result& r, int code, const std::string& message) {
+    EXPECT_EQ(r.code, code) << r.err;
+    EXPECT_EQ(occurrences(r.err, message), 1u) << "stderr:\n" << r.err;
+}
+
+TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
+    const scratch_dir dir("mpi_cli_errors");
+    std::vector<double> points = uniform_points<double, 3>(30, 0, 4, 66);
+    write_points<double, 3>(dir / "in.npy", points);
+    points[25 * 3 + 1] = std::numeric_limits<double>::quiet_NaN();
+    write_points<double, 3>(dir / "nan.npy", points);
+    write_points<double, 3>(dir / "three.npy", uniform_points<double, 3>(3, 0, 4, 67));
+    write_bytes(dir / "bad.csv", "x,y,z\n1,2,3\n1,two,3\n");
+    const std::vector<std::string> before = listing(dir);
+
+    // A NaN in the last rank's slice: that rank finds it, every rank stops.
+    expect_failure(run_mpi(dir, 3, "query nan.npy -r 1 -o out.npy"), 1,
+                   "frnn: error: rank 2: nan.npy: point 25 has a non-finite coordinate");
+    expect_failure(run_mpi(dir, 4, "query three.npy -r 1 -o out.npy"), 1,
+                   "frnn: error: more ranks (4) than particles (3)");
+    // Rank 0 reads text files for everyone.
+    expect_failure(run_mpi(dir, 2, "query bad.csv -r 1 -o out.npy"), 1, "frnn: error: rank 0: bad.csv: line 3");
+    // Ranks started with different options (an MPMD launch).
+    auto two = [&](const std::string& first, const std::string& second) {
+        return run_command(dir, "FRNN_NUM_THREADS=1 " + mpirun + " -np 1 " + tool + " query in.npy " + first + " : -np 1 " +
+                                    tool + " query in.npy " + second);
+    };
+    expect_failure(two("-r 1 -o out.npy", "-r 2 -o out.npy"), 1,
+                   "frnn: error: rank 1: radius, skin, imbalance threshold and periodic box (2.000000");
+    expect_failure(two("-r 1 -o a.npy", "-r 1 -o b.npy"), 1,
+                   "frnn: error: rank 1: INPUT, --output, --generate, --dim, --seed or --json differ from rank 0's");
+    expect_failure(two("-r 1 --periodic 5,5,5", "-r 1 --periodic 5,5,6"), 1,
+                   "frnn: error: rank 1: radius, skin, imbalance threshold and periodic box");
+    // What the distributed path does not do, and a write that fails on rank 0.
+    expect_failure(run_mpi(dir, 2, "query in.npy -r 1 --knn 3 -o out.npy"), 2,
+                   "frnn: --knn: is not supported under mpirun");
+    expect_failure(run_mpi(dir, 2, "query in.npy -r 1 --self"), 2, "frnn: --self: is not supported under mpirun");
+    expect_failure(run_mpi(dir, 2, "query in.npy -r 1 -o missing/out.npy"), 1, "frnn: error: rank 0: missing/out.npy: cannot create");
+    EXPECT_EQ(listing(dir), before) << "a failed run left files";
+}
+
+TEST(MpiCli, AKilledRankEndsTheJobWithinSeconds) {
+    // Rank k dies (SIGKILL) between the migration and the ghost exchange; the others wait for
+    // it in a collective call until mpirun ends them. Rank 0 too: it would have written the file.
+    for (int killed : {1, 0}) {
+        SCOPED_TRACE("rank " + std::to_string(killed) + " killed");
+        const scratch_dir dir("mpi_cli_killed");
+        const auto start = std::chrono::steady_clock::now();
+        const command_result r = run_command(dir, "FRNN_TEST_KILL_RANK=" + std::to_string(killed) +
+                                                      " FRNN_NUM_THREADS=1 timeout 60 " + mpirun + " -np 3 " + tool +
+                                                      " query --generate uniform:20000 -r 1 -o out.npy");
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_NE(r.code, 0);
+        EXPECT_NE(r.code, 124) << "mpirun still ran after 60 s";
+        EXPECT_NE(r.err.find("rank " + std::to_string(killed) + " with PID"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("exited on signal 9"), std::string::npos) << r.err;
+        EXPECT_LT(seconds, 15.0);
+        EXPECT_TRUE(listing(dir).empty()) << "no output file, no temporary";
+    }
+}
+
+}  // namespace
+}  // namespace frnn::test
