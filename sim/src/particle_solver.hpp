@@ -93,6 +93,14 @@ public:
         parameters_changed();
     }
 
+    void set_velocities(std::span<const float> by_id) override {
+        if (by_id.size() != n_ * D)
+            throw error("set_velocities: " + std::to_string(by_id.size()) + " values for " + std::to_string(n_) +
+                        " particles in " + std::to_string(D) + "D");
+        for (std::size_t i = 0; i < n_; ++i)
+            for (int a = 0; a < D; ++a) v_[i * D + a] = by_id[std::size_t(id_[i]) * D + a];
+    }
+
     void set_colliders(const std::vector<collider>& colliders) override {
         scene_.colliders = colliders;  // a checkpoint saves them
         colliders_ = collider_set(colliders);

@@ -21,5 +21,6 @@ struct case_output {
 
 case_output validate_dam_break(const case_context& context);
 case_output validate_hydrostatic(const case_context& context);
+case_output validate_taylor_green(const case_context& context);
 
 }  // namespace frnn::sim

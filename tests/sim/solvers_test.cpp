@@ -145,3 +145,19 @@ TEST(SimSolvers, SaveAndLoadRestoreTheStateExactly) {
         EXPECT_EQ(positions_by_id(*a), positions_by_id(*b)) << label(c);
     }
 }
+
+TEST(SimSolvers, SetVelocitiesTakesThemByParticleId) {
+    for (auto kind : {solver_kind::viscoelastic, solver_kind::sph}) {
+        auto sol = make_solver(frnn::test::small_scene("dam-break", kind, 2, 300), 1);
+        profiler p;
+        sol->step(p);  // the particles are now in cell order, not creation order
+        const std::size_t n = sol->view().n;
+        std::vector<float> by_id(n * 2);
+        for (std::size_t k = 0; k < by_id.size(); ++k) by_id[k] = float(k) * 0.001f;
+        sol->set_velocities(by_id);
+        const auto v = sol->view();
+        for (std::size_t i = 0; i < n; ++i)
+            for (int a = 0; a < 2; ++a) ASSERT_EQ(v.v[2 * i + a], by_id[2 * std::size_t(v.id[i]) + a]) << i;
+        EXPECT_THROW(sol->set_velocities(std::span<const float>(by_id.data(), by_id.size() - 1)), frnn::error);
+    }
+}

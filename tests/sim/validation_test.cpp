@@ -98,6 +98,21 @@ TEST(SimValidation, QuickHydrostaticTankPasses) {
     EXPECT_NE(md.find("| 3D | H/10 |"), std::string::npos);
 }
 
+TEST(SimValidation, QuickTaylorGreenVortexStaysWithinItsTolerance) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the sanitizer tree runs the quick case once, in QuickDamBreakPassesAndWritesItsReport";
+#endif
+    const frnn::test::scratch_dir dir("validate_vortex");
+    const validation_report report = validate({"taylor-green"}, quick_into(dir));
+    ASSERT_EQ(report.figures.size(), 1u);
+    ASSERT_TRUE(report.figures[0].tolerance.has_value());
+    EXPECT_TRUE(report.figures[0].passed()) << report.figures[0].value;
+    // The energy decays: the error is measured, neither 0 nor a NaN.
+    EXPECT_GT(report.figures[0].value, 0);
+    EXPECT_TRUE(std::isfinite(report.figures[0].value));
+    EXPECT_NE(read_text(dir / "report.md").find("| 50^2 |"), std::string::npos);
+}
+
 TEST(SimValidation, FigureOutsideItsToleranceFailsTheReport) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "the sanitizer tree runs the quick case once, in QuickDamBreakPassesAndWritesItsReport";
@@ -133,7 +148,7 @@ TEST(SimValidation, ToleranceNamingNoFigureIsAnError) {
 TEST(SimValidation, BadInputIsRefusedBeforeRunning) {
     const frnn::test::scratch_dir dir("validate_bad");
     validation_options o = quick_into(dir);
-    EXPECT_NE(expect_error({"dam-brake"}, o).find("unknown case 'dam-brake' (cases: dam-break, hydrostatic)"), std::string::npos);
+    EXPECT_NE(expect_error({"dam-brake"}, o).find("unknown case 'dam-brake' (cases: dam-break, hydrostatic, taylor-green)"), std::string::npos);
     o.tolerances_json = "{";
     EXPECT_NE(expect_error({}, o).find("not JSON"), std::string::npos);
     o.tolerances_json = R"({"dam-break": {"quick": {"a/25, a = 2.25 in": -1}}})";

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,10 @@ public:
     /// Replaces the colliders from the next step on, keeping the particles (a viewer moving
     /// them by hand); the list must be valid for the scene's dimension (flatten_to_2d).
     virtual void set_colliders(const std::vector<collider>& colliders) = 0;
+    /// Replaces every particle's velocity with by_id[id * dim + a] (id: the particle's index
+    /// at creation, particle_view::id), e.g. to start from a velocity field. Throws
+    /// frnn::error when by_id does not hold n * dim values.
+    virtual void set_velocities(std::span<const float> by_id) = 0;
     /// Neighbors of particle i (view() order) in the last step's lists; 0 before the first step.
     virtual std::uint32_t neighbor_count(std::size_t i) const = 0;
     /// The cells of the grid the last step searched (frnn/grid_geometry.hpp), so a viewer can

@@ -7,7 +7,9 @@
 // Cases: "dam-break" (2D WCSPH, the surge front against both series of Martin & Moyce 1952,
 // particle spacing a/25, a/50 and a/100; quick: a/25); "hydrostatic" (WCSPH water at rest in
 // a tank: pressure slope, bottom pressure and largest speed after settling, 2D at H/20, H/40,
-// H/80 and 3D at H/10, H/15, H/20; quick: H/20 and H/10).
+// H/80 and 3D at H/10, H/15, H/20; quick: H/20 and H/10); "taylor-green" (the 2D vortex at
+// Re = 100 in a periodic box, WCSPH with the laminar viscosity: the kinetic energy's decay
+// against exp(-16 pi^2 nu t), 50^2, 100^2, 200^2 particles; quick: 50^2).
 // Thread safety: one validation per output folder; runs use `threads` threads of frnn's pool.
 #pragma once
 #include <optional>
