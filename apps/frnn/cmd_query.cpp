@@ -35,9 +35,9 @@ std::vector<double> parse_periodic(const std::string& text) {
         double v = 0;
         const auto r = std::from_chars(item.data(), item.data() + item.size(), v);
         if (item.empty() || r.ec != std::errc() || r.ptr != item.data() + item.size() ||
-            !std::isfinite(v) || v <= 0)
+            !std::isfinite(v) || v < 0)
             throw CLI::ValidationError("--periodic", "'" + item +
-                                                         "' is not a positive box length (expected LX,LY[,LZ])");
+                                                         "' is not a box length >= 0 (expected LX,LY[,LZ]; 0 for an open axis)");
         lengths.push_back(v);
         if (comma == std::string::npos) return lengths;
         start = comma + 1;
@@ -85,14 +85,25 @@ void check_usage(const query_args& a) {
         throw CLI::ValidationError("--self", "does not apply with --queries (query points are not data points)");
 }
 
+namespace {
+std::string shortest(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.15g", v);
+    return buf;
+}
+}  // namespace
+
 void check_periodic(const std::vector<double>& periodic, int dimension, double radius) {
     if (periodic.empty()) return;
     if (periodic.size() != std::size_t(dimension))
         throw CLI::ValidationError("--periodic", "needs " + std::to_string(dimension) + " box lengths for " +
                                                      std::to_string(dimension) + "-D points, got " +
                                                      std::to_string(periodic.size()));
-    for (double length : periodic)
-        if (length < 2 * radius) throw CLI::ValidationError("--periodic", "every box length must be at least 2 * radius");
+    for (std::size_t a = 0; a < periodic.size(); ++a)
+        if (periodic[a] != 0 && periodic[a] < 2 * radius)
+            throw CLI::ValidationError("--periodic", "the box length " + shortest(periodic[a]) + " on axis " +
+                                                         std::to_string(a) + " is less than 2 * radius (" +
+                                                         shortest(2 * radius) + "); 0 leaves an axis open");
 }
 
 namespace {
@@ -309,7 +320,8 @@ const register_command query_command{"query", [](CLI::App& app) {
     cmd->add_option("--grid", args->grid, "Grid kind")->check(CLI::IsMember({"auto", "uniform", "hash"}));
     cmd->add_option("--cell-size", args->cell_size, "Cell edge, between radius/4 and radius (default: radius)")
         ->check(positive_number);
-    cmd->add_option("--periodic", args->periodic, "Periodic box [0,LX)x[0,LY)[x[0,LZ)]: LX,LY[,LZ]");
+    cmd->add_option("--periodic", args->periodic,
+                    "Periodic box [0,LX)x[0,LY)[x[0,LZ)]: LX,LY[,LZ]; a length of 0 leaves that axis open (10,0,10)");
     cmd->add_option("--knn", args->knn, "Keep at most K nearest neighbors within the radius per point")
         ->check(positive_number);
     cmd->add_flag("--self", args->self, "Include each point as its own neighbor (pair (i,i), distance 0)");

@@ -17,7 +17,7 @@
 // After the loop, it.done is true unless the driver stopped it early (lavapipe stops the loops
 // of a group of 8 invocations after 65535 iterations in all): test it to detect a cut result.
 // Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid; in a
-// periodic box they use the minimum image, d -= L * roundEven(d / L).
+// periodic box they use the minimum image on its periodic axes, d -= L * roundEven(d / L).
 #ifndef FRNN_GRID_GLSL
 #define FRNN_GRID_GLSL
 
@@ -43,14 +43,14 @@ struct frnn_grid_params {
     vec4 origin;      // lower corner of cell (0,0,0)
     vec4 inv_cell;    // 1 / cell edge, per axis
     ivec4 dims;       // uniform grid: cells per axis
-    vec4 box;         // periodic box lengths (periodic grids only)
+    vec4 box;         // periodic box lengths (periodic grids only; 0 on an open axis)
     float radius;
     float radius2;    // radius * radius, the acceptance test d2 <= radius2
     uint count;       // number of points
     uint hashed;      // 0: uniform grid, 1: hashed grid
     uint mask;        // hashed: slots - 1
     uint slots;       // cells (uniform) or table slots (hashed)
-    uint periodic;    // 1: periodic box [0, L) per axis, uniform grid
+    uint periodic;    // 1: a periodic axis, [0, L) where box > 0; uniform grid
     uint pad;
 };
 
@@ -69,15 +69,17 @@ layout(constant_id = FRNN_KIND_CONSTANT_ID) const uint frnn_kind = 3u;
 
 bool frnn_is_hashed() { return frnn_kind == 3u ? frnn_grid.hashed != 0u : frnn_kind == 1u; }
 bool frnn_is_periodic() { return frnn_kind == 3u ? frnn_grid.periodic != 0u : frnn_kind == 2u; }
+// Whether axis a wraps: a periodic grid's axes with a box length (the others are open).
+bool frnn_wraps(int a) { return frnn_is_periodic() && frnn_grid.box[a] > 0.0; }
 
 // Largest hashed cell coordinate: clamping is monotone, so far outliers share the border cells
 // and stay exact (they are compared by distance anyway).
 const float frnn_max_cell = 1073741824.0;
 
-// Cell coordinate on one axis, before clamping (float, may be huge for outliers). Periodic:
-// the coordinate wrapped into [0, L) first.
+// Cell coordinate on one axis, before clamping (float, may be huge for outliers). Periodic
+// axis: the coordinate wrapped into [0, L) first.
 float frnn_cell_float(float x, int axis) {
-    if (frnn_is_periodic()) {
+    if (frnn_wraps(axis)) {
         const float box = frnn_grid.box[axis];
         precise float w = x - box * floor(x / box);
         precise float u = w * frnn_grid.inv_cell[axis];
@@ -161,7 +163,7 @@ struct frnn_iterator {
 // Cell coordinate of the current row on axis a (a >= 1).
 int frnn_row_cell(in frnn_iterator it, int a) {
     const int c = it.lo[a] + it.step[a];
-    return (frnn_is_periodic() && c >= frnn_grid.dims[a]) ? c - frnn_grid.dims[a] : c;
+    return (frnn_wraps(a) && c >= frnn_grid.dims[a]) ? c - frnn_grid.dims[a] : c;
 }
 
 // Sets the run(s) of the current row.
@@ -174,13 +176,13 @@ void frnn_load_row(inout frnn_iterator it) {
     it.next_begin = it.next_end = 0u;
     // Slots of one row are consecutive; `limit` is where they wrap to 0.
     uint first_end = sa + width, limit = frnn_grid.slots;
-    if (frnn_is_periodic()) limit = sa - uint(it.lo.x) + uint(frnn_grid.dims.x);
+    if (frnn_wraps(0)) limit = sa - uint(it.lo.x) + uint(frnn_grid.dims.x);
     it.j = frnn_start[sa];
     if (first_end <= limit) {
         it.end = frnn_start[first_end];
     } else {
         it.end = frnn_start[limit];
-        const uint base = frnn_is_periodic() ? sa - uint(it.lo.x) : 0u;
+        const uint base = frnn_wraps(0) ? sa - uint(it.lo.x) : 0u;
         it.next_begin = frnn_start[base];
         it.next_end = frnn_start[base + (first_end - limit)];
     }
@@ -193,7 +195,7 @@ frnn_iterator frnn_begin(frnn_vec x) {
     // axis; `reach` is a little more.
     precise float reach = frnn_grid.radius * (1.0 + 1.0 / 1048576.0);
     for (int a = 0; a < FRNN_DIM; ++a) {
-        if (frnn_is_periodic()) {
+        if (frnn_wraps(a)) {
             // Wrapped coordinates are not monotone in x: a margin covers the rounding of both
             // points' cell coordinates (u < dims, so it stays a fraction of a cell).
             const float u = frnn_cell_float(x[a], a);
@@ -247,7 +249,7 @@ bool frnn_next(inout frnn_iterator it, out uint j, out float d2) {
             precise float sum = 0.0;
             for (int a = 0; a < FRNN_DIM; ++a) {
                 precise float d = frnn_sorted_pos[k * FRNN_DIM + a] - it.x[a];
-                if (frnn_is_periodic()) {
+                if (frnn_wraps(a)) {
                     const float box = frnn_grid.box[a];
                     d = d - box * roundEven(d / box);
                 }

@@ -76,7 +76,7 @@ public:
     std::size_t slot_count() const { return geometry_.slots; }
     std::size_t occupied_slots() const { return occupied_slots_; }  ///< slots holding at least one point
     std::size_t memory_bytes() const;                 ///< bytes held by the structure
-    bool periodic() const { return geometry_.periodic; }
+    bool periodic() const { return geometry_.periodic; }  ///< some axis is periodic
     const grid_options& options() const { return options_; }
     int threads() const;
     void set_threads(int threads) { options_.threads = threads; }
@@ -170,26 +170,28 @@ private:
     /// coordinates (itself included, first), so that visiting these from every cell meets each
     /// pair of cells once (pairs inside the first run once by index order). `width` as for
     /// stencil_runs, uniform grid only. Periodic boxes: wrapped, and only for boxes of at least
-    /// 2 reach + 1 cells per axis (smaller ones would meet some pairs of cells twice).
+    /// 2 reach + 1 cells on each periodic axis (smaller ones would meet some pairs of cells
+    /// twice).
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1, detail::run_image* images = nullptr) const;
-    /// Periodic box: whether every point lies in [0, L) on every axis as given (not wrapped).
+    /// Periodic box: whether every point lies in [0, L) on every periodic axis as given (not
+    /// wrapped).
     bool points_inside_box() const { return geometry_.inside_box; }
     /// Periodic box: whether the run images of stencil_runs and forward_runs are the minimum
     /// image of every pair within r of grid points: all points inside the box, and at least
-    /// 2 reach + 3 cells per axis (then another image lies more than r away).
+    /// 2 reach + 3 cells on each periodic axis (then another image lies more than r away).
     bool images_exact() const;
     /// Uniform grid: cell c (geometry().slot_of_cell) holds the sorted points
     /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table
     /// slots only, in slot order, then size().
     std::span<const std::uint32_t> cell_starts() const { return offsets_; }
     /// Distance squared between x and sorted point j, in search space, with the minimum image
-    /// when periodic.
+    /// on the periodic axes.
     T distance_squared_sorted(const point& x, std::uint32_t j) const {
         T d2 = 0;
         for (int a = 0; a < D; ++a) {
             T d = pos_[a][j] - x[a];
-            if (geometry_.periodic) d -= geometry_.box[a] * std::nearbyint(d / geometry_.box[a]);
+            if (geometry_.wraps[a]) d -= geometry_.box[a] * std::nearbyint(d / geometry_.box[a]);
             d2 += d * d;
         }
         return d2;

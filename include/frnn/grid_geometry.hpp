@@ -49,7 +49,7 @@ inline std::int64_t floor_to_int(double v) {
 using cell_index = std::array<std::int64_t, 3>;
 
 /// The cells a query visits: every cell whose coordinates lie in [first, last] on each axis.
-/// In a periodic box the coordinates may leave [0, cells per axis): such a cell is the one at
+/// On a periodic axis the coordinates may leave [0, cells per axis): such a cell is the one at
 /// the coordinate modulo the cells per axis, in the neighboring image of the box.
 struct cell_range {
     cell_index first{}, last{};
@@ -59,27 +59,28 @@ struct cell_range {
 template <class T>
 struct grid_geometry {
     grid_kind kind = grid_kind::uniform;  ///< never automatic
-    bool periodic = false;
-    bool inside_box = false;           ///< periodic: all points in [0, L) per axis
+    bool periodic = false;             ///< some axis is periodic
+    std::array<bool, 3> wraps{};       ///< which axes are periodic
+    bool inside_box = false;           ///< periodic: all points in [0, L) on the periodic axes
     int reach = 1;                     ///< cells visited on each side
     std::array<double, 3> origin{};    ///< lower corner of cell (0,0,0)
     std::array<double, 3> cell{};      ///< effective cell edge per axis
     std::array<double, 3> inv_cell{};
     std::array<std::int64_t, 3> dims{1, 1, 1};  ///< cells per axis (uniform grid)
-    std::array<T, 3> box{};            ///< periodic box lengths
+    std::array<T, 3> box{};            ///< periodic box lengths (0 on open axes)
     std::size_t slots = 0;             ///< cells (uniform) or table slots (hashed, a power of 2)
     T scale = 1;                       ///< search scale (frnn/search_scale.hpp)
     T search_radius = 0;               ///< radius * scale
     double far_bound = INFINITY;       ///< hashed: query coordinates beyond +-this have no neighbors
 
     /// The cell of point x (search space): clamped to the uniform grid (points outside it share
-    /// its border cells), wrapped into a periodic box.
+    /// its border cells), wrapped into a periodic box on its periodic axes.
     template <std::size_t D>
     cell_index cell_of(const std::array<T, D>& x) const {
         cell_index c{0, 0, 0};
         for (std::size_t a = 0; a < D; ++a) {
             const double v = double(x[a]);
-            if (periodic) {
+            if (wraps[a]) {
                 const double length = double(box[a]);
                 const double w = (v - length * std::floor(v / length)) * inv_cell[a];
                 c[a] = std::int64_t(std::clamp(w, 0.0, double(dims[a] - 1)));
@@ -100,7 +101,7 @@ struct grid_geometry {
     }
 
     /// The cells a query at x (search space) visits: reach cells on each side of its cell,
-    /// within the uniform grid, or around the box in a periodic one.
+    /// within the uniform grid, or around the box on a periodic axis.
     template <std::size_t D>
     cell_range cells_within(const std::array<T, D>& x) const {
         cell_range r;
@@ -108,7 +109,7 @@ struct grid_geometry {
         for (std::size_t a = 0; a < D; ++a) {
             r.first[a] = c[a] - reach;
             r.last[a] = c[a] + reach;
-            if (kind == grid_kind::uniform && !periodic) {
+            if (kind == grid_kind::uniform && !wraps[a]) {
                 r.first[a] = std::max<std::int64_t>(r.first[a], 0);
                 r.last[a] = std::min(r.last[a], dims[a] - 1);
             }

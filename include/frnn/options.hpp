@@ -27,10 +27,12 @@ struct grid_options {
     /// grid every one of those cells is a table lookup, so small cells are slow there (W3
     /// counts at 1M points, 1 thread: 0.3 s with cells of r, 1.5 s with r/2, 18 s with r/4).
     double cell_size = 0;
-    /// Empty: open boundaries. Otherwise one box length per axis: the box is [0, L) on each
-    /// axis, distances use the minimum image, and every length must be >= 2 r. A periodic box
-    /// is bounded, so it always uses the uniform grid (`kind` is then ignored); very sparse
-    /// boxes get larger cells instead of more of them.
+    /// Empty: open boundaries. Otherwise one value per axis: a box length L > 0 makes that
+    /// axis periodic, [0, L) with minimum-image distances, and must be >= 2 r; 0 leaves the
+    /// axis open (a channel periodic in x only is {Lx, 0, 0}). A box with a periodic axis
+    /// always uses the uniform grid (`kind` is then ignored): its open axes span the points, or
+    /// their bulk with far outliers in the border cells as the automatic kind does; very
+    /// sparse boxes get larger cells instead of more of them.
     std::vector<double> periodic;
     /// Optional bounds of the uniform grid (one value per axis, both or neither). Points
     /// outside are still handled exactly (they share the border cells). Default: bounding box.

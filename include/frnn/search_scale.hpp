@@ -71,7 +71,7 @@ T unscale_squared(T d2, T inv) {
 
 /// The distance test of a search with radius r and scale s: within(a, b) says whether the
 /// points a and b (caller's coordinates) are neighbors and gives their squared distance in the
-/// scaled units; `periodic` holds the box lengths (empty: open boundaries).
+/// scaled units; `periodic` holds the box lengths (empty: open boundaries; 0: an open axis).
 template <class T, int D>
 struct distance_test {
     T scale = 1, inv_scale = 1, r2 = 0;
@@ -87,12 +87,12 @@ struct distance_test {
         r2 = r * r;
         for (int a = 0; a < D && periodic; ++a) box[a] = T(periodic_lengths[std::size_t(a)]) * s;
     }
-    /// Squared distance of a and b in the scaled units (minimum image when periodic).
+    /// Squared distance of a and b in the scaled units (minimum image on the periodic axes).
     T scaled_distance_squared(const T* a, const T* b) const {
         T d2 = 0;
         for (int k = 0; k < D; ++k) {
             T d = b[k] * scale - a[k] * scale;
-            if (periodic) d -= box[k] * std::nearbyint(d / box[k]);
+            if (periodic && box[k] > 0) d -= box[k] * std::nearbyint(d / box[k]);
             d2 += d * d;
         }
         return d2;

@@ -59,7 +59,8 @@ private:
         T d2 = 0;
         for (int k = 0; k < D; ++k) {
             T d = b[k] - a[k];
-            if (!options_.periodic.empty()) d -= T(options_.periodic[k]) * std::nearbyint(d / T(options_.periodic[k]));
+            if (!options_.periodic.empty() && options_.periodic[k] > 0)  // 0: an open axis
+                d -= T(options_.periodic[k]) * std::nearbyint(d / T(options_.periodic[k]));
             d2 += d * d;
         }
         return d2;

@@ -24,7 +24,7 @@ class Grid:
         *,
         grid: Literal["auto", "uniform", "hash"] = "auto",
         cell_size: Optional[float] = None,
-        periodic: Union[None, float, Sequence[float]] = None,
+        periodic: Union[None, float, Sequence[Optional[float]]] = None,
         threads: Optional[int] = None,
     ) -> None: ...
     def query_pairs(self) -> npt.NDArray[np.int64]:
@@ -116,7 +116,7 @@ def query_pairs(
     *,
     grid: Literal["auto", "uniform", "hash"] = "auto",
     cell_size: Optional[float] = None,
-    periodic: Union[None, float, Sequence[float]] = None,
+    periodic: Union[None, float, Sequence[Optional[float]]] = None,
     threads: Optional[int] = None,
 ) -> npt.NDArray[np.int64]:
     """All pairs i < j within radius: Grid(points, radius, **kw).query_pairs()."""

@@ -42,12 +42,19 @@ row_order parse_sort(const py::object& sort) {
 /// None, one box length for every axis, or one length per axis.
 std::vector<double> parse_periodic(const py::object& periodic, int dim) {
     if (periodic.is_none()) return {};
+    if ((py::isinstance<py::tuple>(periodic) || py::isinstance<py::list>(periodic)) && py::len(periodic) == std::size_t(dim)) {
+        // None on an axis leaves it open, as 0 does (cKDTree's boxsize takes 0 there).
+        py::list lengths;
+        for (const py::handle v : periodic) lengths.append(v.is_none() ? py::float_(0.0) : py::reinterpret_borrow<py::object>(v));
+        return parse_periodic(as_array(lengths), dim);
+    }
     const py::array a = as_array(periodic);
     const char kind = a.dtype().kind();
     const bool numeric = kind == 'f' || kind == 'i' || kind == 'u';
     if (!numeric || !(a.ndim() == 0 || (a.ndim() == 1 && a.shape(0) == dim)))
         throw py::value_error("periodic must be None, one box length, or " + std::to_string(dim) +
-                              " box lengths (one per axis); got " + std::string(py::repr(periodic)));
+                              " box lengths (one per axis, 0 or None for an open axis); got " +
+                              std::string(py::repr(periodic)));
     const auto v = as_contiguous<double>(a);
     return a.ndim() == 0 ? std::vector<double>(std::size_t(dim), v.data()[0])
                          : std::vector<double>(v.data(), v.data() + dim);

@@ -36,9 +36,10 @@ grid : {"auto", "uniform", "hash"}
     outliers); "auto" picks by the cell count.
 cell_size : float, optional
     Cell edge in [radius/4, radius]; default radius.
-periodic : float or sequence of float, optional
+periodic : float or sequence of float or None, optional
     Box length(s) L: the box is [0, L) on each axis and distances use the minimum image.
-    Every length must be >= 2 * radius.
+    Every length must be >= 2 * radius; 0 or None on an axis leaves it open, as in
+    cKDTree's boxsize: periodic=(Lx, None, Lz).
 threads : int, optional
     Threads for build and queries (default: FRNN_NUM_THREADS, else OMP_NUM_THREADS, else
     every CPU the process may use). Results are identical for any thread count.

@@ -26,17 +26,30 @@ void apply_domain(const grid_options& o, int dim, double scale, double limit, do
     }
 }
 
-std::array<std::int64_t, 3> periodic_cells(const double* box, int dim, double cell, std::size_t n) {
+std::array<std::int64_t, 3> box_cells(const double* box, const double* lo, const double* hi, int dim, double cell,
+                                      std::size_t n) {
     std::array<std::int64_t, 3> dims{1, 1, 1};
     double cells = 1;
     for (int a = 0; a < dim; ++a) {
-        dims[a] = std::int64_t(std::clamp(std::floor(box[a] / cell), 1.0, 0x1p30));
+        const double along = box[a] > 0 ? std::floor(box[a] / cell) : std::floor((hi[a] - lo[a]) / cell) + 1;
+        dims[a] = std::int64_t(std::clamp(along, 1.0, 0x1p30));
         cells *= double(dims[a]);
     }
     const double cap = std::max(8.0 * double(n), 4096.0);
     if (cells > cap) {
-        const double shrink = std::pow(cells / cap, 1.0 / dim);
-        for (int a = 0; a < dim; ++a) dims[a] = std::max<std::int64_t>(1, std::int64_t(double(dims[a]) / shrink));
+        // Fewer cells on the axes with the most first: the largest t for which at most t cells
+        // per axis make no more than `cap` (a long open axis gives up cells before short ones).
+        auto cells_at_most = [&](std::int64_t t) {
+            double c = 1;
+            for (int a = 0; a < dim; ++a) c *= double(std::min(dims[a], t));
+            return c;
+        };
+        std::int64_t good = 1, bad = *std::max_element(dims.begin(), dims.begin() + dim);
+        while (bad - good > 1) {
+            const std::int64_t mid = good + (bad - good) / 2;
+            (cells_at_most(mid) <= cap ? good : bad) = mid;
+        }
+        for (int a = 0; a < dim; ++a) dims[a] = std::min(dims[a], good);
     }
     return dims;
 }
@@ -60,13 +73,21 @@ void count_slots(grid_geometry<T>& g, int dim, std::size_t n) {
 }  // namespace
 
 template <class T>
-void lay_out_periodic_cells(grid_geometry<T>& g, const double* box, int dim, double cell, std::size_t n) {
+void lay_out_periodic_cells(grid_geometry<T>& g, const double* box, const double* lo, const double* hi, int dim,
+                            double cell, std::size_t n) {
     g.kind = grid_kind::uniform;
-    g.dims = periodic_cells(box, dim, cell, n);
+    g.dims = box_cells(box, lo, hi, dim, cell, n);
     for (int a = 0; a < dim; ++a) {
-        g.cell[a] = double(g.box[a]) / double(g.dims[a]);
-        g.inv_cell[a] = double(g.dims[a]) / double(g.box[a]);
-        g.origin[a] = 0;
+        if (box[a] > 0) {
+            g.cell[a] = double(g.box[a]) / double(g.dims[a]);
+            g.inv_cell[a] = double(g.dims[a]) / double(g.box[a]);
+            g.origin[a] = 0;
+        } else {
+            // Fewer cells than asked only when the box is sparse: then as wide as covers [lo, hi].
+            g.cell[a] = std::max(cell, hi[a] / double(g.dims[a]) - lo[a] / double(g.dims[a]));
+            g.inv_cell[a] = 1.0 / g.cell[a];
+            g.origin[a] = lo[a];
+        }
     }
     count_slots(g, dim, n);
 }
@@ -84,8 +105,10 @@ void lay_out_open_cells(grid_geometry<T>& g, const double* lo, const double* hi,
     count_slots(g, dim, n);
 }
 
-template void lay_out_periodic_cells(grid_geometry<float>&, const double*, int, double, std::size_t);
-template void lay_out_periodic_cells(grid_geometry<double>&, const double*, int, double, std::size_t);
+template void lay_out_periodic_cells(grid_geometry<float>&, const double*, const double*, const double*, int, double,
+                                     std::size_t);
+template void lay_out_periodic_cells(grid_geometry<double>&, const double*, const double*, const double*, int, double,
+                                     std::size_t);
 template void lay_out_open_cells(grid_geometry<float>&, const double*, const double*, int, double, std::size_t);
 template void lay_out_open_cells(grid_geometry<double>&, const double*, const double*, int, double, std::size_t);
 

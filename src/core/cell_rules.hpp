@@ -21,11 +21,13 @@ namespace frnn::detail {
 void apply_domain(const grid_options& o, int dim, double scale, double limit, double* lo, double* hi,
                   std::string_view who);
 
-/// The cells of a periodic box (search space, dim axes): a uniform grid from 0 of at least
-/// `cell`-wide cells, periodic_cells(box) per axis, each g.box / dims wide (g.box: the lengths
-/// in the points' type; box: as asked); and its slots.
+/// The cells of a box with periodic axes (search space, dim axes, box[a] > 0 on the periodic
+/// ones, 0 on open ones): a uniform grid of at least `cell`-wide cells, box_cells() per axis,
+/// from 0 and g.box / dims wide on a periodic axis, from lo and `cell` wide (wider when the box
+/// is sparse) on an open one; and its slots. g.box holds the lengths in the points' type.
 template <class T>
-void lay_out_periodic_cells(grid_geometry<T>& g, const double* box, int dim, double cell, std::size_t n);
+void lay_out_periodic_cells(grid_geometry<T>& g, const double* box, const double* lo, const double* hi, int dim,
+                            double cell, std::size_t n);
 
 /// The cells of an open grid of kind g.kind over [lo, hi] (search space): `cell`-wide cells
 /// counted from lo, uniform_cells() of them per axis on a uniform grid; and the slots of the
@@ -34,10 +36,13 @@ template <class T>
 void lay_out_open_cells(grid_geometry<T>& g, const double* lo, const double* hi, int dim, double cell,
                         std::size_t n);
 
-/// Cells per axis of a periodic box of lengths box[0, dim): floor(L / cell), at least 1 and at
-/// most 2^30 per axis, then, for sparse boxes, fewer and larger so that the box has at most
-/// max(8 n, 4096) cells (still at least `cell` wide, so the reach still holds).
-std::array<std::int64_t, 3> periodic_cells(const double* box, int dim, double cell, std::size_t n);
+/// Cells per axis of a box with periodic axes (box[a] > 0: floor(L / cell)) and open ones
+/// (box[a] = 0: over [lo, hi], floor((hi - lo) / cell) + 1), each at least 1 and at most 2^30,
+/// then, for sparse boxes, fewer and larger so that the box has at most max(8 n, 4096) cells
+/// (still at least `cell` wide, so the reach still holds), taken first from the axes with the
+/// most.
+std::array<std::int64_t, 3> box_cells(const double* box, const double* lo, const double* hi, int dim, double cell,
+                                      std::size_t n);
 
 /// Cells per axis of a uniform grid over [lo, hi]: floor((hi - lo) / cell) + 1; the caller has
 /// checked that their product is within its limit.

@@ -51,7 +51,7 @@ void grid<T, D>::check_query_point(const point& x, std::size_t index) const {
         if (!std::isfinite(x[a]))
             throw error("query point " + std::to_string(index) + " has a non-finite coordinate (axis " +
                         std::to_string(a) + ")");
-        if (geometry_.periodic && std::abs(double(x[a])) >= options_.periodic[a] * 0x1p30)
+        if (geometry_.wraps[a] && std::abs(double(x[a])) >= options_.periodic[a] * 0x1p30)
             throw error("query point " + std::to_string(index) +
                         " lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
     }

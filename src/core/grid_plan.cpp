@@ -92,19 +92,23 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
         }
     }
 
-    l.periodic = !o.periodic.empty();
-    if (l.periodic) {
+    if (!o.periodic.empty()) {
         if (o.periodic.size() != std::size_t(D))
-            throw error("periodic box needs " + std::to_string(D) + " lengths, got " +
+            throw error("periodic box needs " + std::to_string(D) + " lengths (0 for an open axis), got " +
                         std::to_string(o.periodic.size()));
         for (int a = 0; a < D; ++a) {
             const double box = o.periodic[a];
-            if (!std::isfinite(box) || box < 2 * user_r || box > double(std::numeric_limits<T>::max()))
+            if (box == 0) continue;  // an open axis
+            if (!std::isfinite(box) || box < 0 || box > double(std::numeric_limits<T>::max()))
                 throw error("periodic box length " + fmt_double(box) + " on axis " + std::to_string(a) +
-                            " is smaller than twice the radius (" + fmt_double(2 * user_r) +
-                            ") or not a finite value of the points' type");
+                            " is not 0 (open) or a positive finite value of the points' type");
+            if (box < 2 * user_r)
+                throw error("periodic box length " + fmt_double(box) + " on axis " + std::to_string(a) +
+                            " is smaller than twice the radius (" + fmt_double(2 * user_r) + ")");
             if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
                 throw error("a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
+            l.wraps[a] = true;
+            l.periodic = true;
         }
     }
 
@@ -131,11 +135,19 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
     if (l.periodic) {
         double box[3] = {0, 0, 0};
         for (int a = 0; a < D; ++a) {
+            if (!l.wraps[a]) continue;
             box[a] = o.periodic[a] * double(l.scale);
             l.box[a] = T(o.periodic[a]) * l.scale;
             l.inside_box = l.inside_box && lo[a] >= 0 && hi[a] < double(l.box[a]);
         }
-        lay_out_periodic_cells(l, box, D, cell, n);
+        kind_question q;
+        q.n = n;
+        q.cell = cell;
+        q.radius = r;
+        q.hashed_key_limit = max_cell_coordinate;
+        q.uniform_cell_limit = max_uniform_cells;
+        span_open_axes<T, D>(q, l.wraps.data(), box, coords, threads, lo.data(), hi.data());
+        lay_out_periodic_cells(l, box, lo.data(), hi.data(), D, cell, n);
     } else {
         apply_domain(o, D, double(l.scale), double(std::numeric_limits<T>::max()), lo.data(), hi.data(), "");
         kind_question q;

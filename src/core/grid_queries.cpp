@@ -137,9 +137,9 @@ struct query_engine {
         const auto dims = g.geometry().dims;
         if (g.periodic()) {
             // The wrapped forward half-stencil meets each pair of cells once only when every
-            // axis has 2 reach + 1 cells or more; smaller boxes count per point.
+            // periodic axis has 2 reach + 1 cells or more; smaller boxes count per point.
             bool fits = true;
-            for (int a = 0; a < D; ++a) fits = fits && dims[a] >= 2 * g.reach() + 1;
+            for (int a = 0; a < D; ++a) fits = fits && (!g.geometry().wraps[a] || dims[a] >= 2 * g.reach() + 1);
             if (!fits) {
                 for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
                                [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
@@ -176,7 +176,7 @@ struct query_engine {
         auto first_point = [&](std::size_t layer) { return std::size_t(starts[layer * per_layer]); };
         // Slab k spills into the points [into[k], into[k] + size) at spill[at[k]...): the
         // `reach` layers after it, or the last slab of a periodic box the first `reach` layers.
-        const bool wraps = g.periodic() && n > 1;
+        const bool wraps = g.geometry().wraps[D - 1] && n > 1;
         std::vector<std::size_t> into(n, 0), at(n + 1, 0);
         for (std::size_t k = 0; k < n; ++k) {
             const bool last = k + 1 == n;

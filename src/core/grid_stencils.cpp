@@ -31,7 +31,7 @@ template <class T, int D>
 bool grid<T, D>::images_exact() const {
     if (!geometry_.periodic || !geometry_.inside_box) return false;
     for (int a = 0; a < D; ++a)
-        if (geometry_.dims[a] < 2 * geometry_.reach + 3) return false;
+        if (geometry_.wraps[a] && geometry_.dims[a] < 2 * geometry_.reach + 3) return false;
     return true;
 }
 
@@ -60,12 +60,18 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
     if (geometry_.periodic) {
         // Along y and z, the stencil's distinct wrapped cells in increasing order (so the runs
         // come in order of sorted index), each with its image: every cell, image 0, when the
-        // axis has no more than 2k + 1 of them.
+        // axis has no more than 2k + 1 of them; those within the grid on an open axis.
         std::array<std::array<std::int64_t, 9>, 3> idx{};
         std::array<std::array<std::int8_t, 9>, 3> img{};
         std::array<int, 3> count{1, 1, 1};
         for (int a = 1; a < D; ++a) {
             const std::int64_t cells = geometry_.dims[a];
+            if (!geometry_.wraps[a]) {
+                count[a] = 0;
+                for (std::int64_t u = std::max<std::int64_t>(0, c[a] - k); u <= std::min(cells - 1, c[a] + k); ++u)
+                    idx[a][count[a]++] = u;
+                continue;
+            }
             if (cells <= 2 * k + 1) {
                 count[a] = int(cells);
                 for (int i = 0; i < count[a]; ++i) idx[a][i] = i;
@@ -92,7 +98,8 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
         int nx = 0;
         {
             const std::int64_t cells = geometry_.dims[0], lo = c[0] - k, hi = c[0] + k;
-            if (cells <= 2 * k + 1) xs[nx++] = {0, cells - 1, 0};
+            if (!geometry_.wraps[0]) xs[nx++] = {std::max<std::int64_t>(0, lo), std::min(cells - 1, hi), 0};
+            else if (cells <= 2 * k + 1) xs[nx++] = {0, cells - 1, 0};
             else if (lo < 0) xs[nx++] = {0, hi, 0}, xs[nx++] = {lo + cells, cells - 1, 1};
             else if (hi >= cells) xs[nx++] = {0, hi - cells, -1}, xs[nx++] = {lo, cells - 1, 0};
             else xs[nx++] = {lo, hi, 0};
@@ -173,8 +180,9 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
     if (geometry_.kind == grid_kind::hashed)  // the same cells, found through the table
         return hashed_runs(c, true, out);
     if (geometry_.periodic) {
-        // Wrapped. With 2k + 1 cells or more on every axis (the caller's condition) the cells
-        // c + d are distinct, and of d and -d exactly one lies in the half.
+        // Wrapped on the periodic axes, cut at the grid's ends on open ones. With 2k + 1 cells
+        // or more on every periodic axis (the caller's condition) the cells c + d are
+        // distinct, and of d and -d exactly one lies in the half.
         auto wrapped = [&](int a, std::int64_t v) { return (v % geometry_.dims[a] + geometry_.dims[a]) % geometry_.dims[a]; };
         // A candidate wrapped from above sits at d - L: image -1; from below, +1.
         auto image_of = [&](int a, std::int64_t v) { return std::int8_t(v < 0 ? 1 : v >= geometry_.dims[a] ? -1 : 0); };
@@ -194,7 +202,10 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
             if (images) append_imaged_run(out, images, n, b, e, image);
             else detail::append_run(out, n, b, e);
         };
+        auto outside = [&](int a, std::int64_t v) { return !geometry_.wraps[a] && (v < 0 || v >= geometry_.dims[a]); };
         auto add_cells = [&](std::int64_t y, std::int64_t z, std::int64_t from, std::int64_t to) {
+            if (outside(1, y) || (D == 3 && outside(2, z))) return;
+            if (!geometry_.wraps[0]) from = std::max<std::int64_t>(from, 0), to = std::min(to, geometry_.dims[0] - 1);
             const std::int64_t layer = D == 3 ? wrapped(2, z) : wrapped(1, y);
             const auto row = std::int64_t(geometry_.slot_of_cell({0, wrapped(1, y), wrapped(2, z)}));
             const std::int64_t a = wrapped(0, from), b = wrapped(0, to);

@@ -60,8 +60,9 @@ std::size_t count_outside(std::span<const T> coords, const double* lo, const dou
 template <class T, int D>
 kind_answer choose_kind(const kind_question& q, std::span<const T> coords, int threads) {
     auto cells_over = [&](const double* lo, const double* hi) {
-        double cells = 1;
-        for (int a = 0; a < D; ++a) cells *= std::floor((hi[a] - lo[a]) / q.cell) + 1;
+        double cells = q.fixed_cells;
+        for (int a = 0; a < D; ++a)
+            if (!q.fixed[a]) cells *= std::floor((hi[a] - lo[a]) / q.cell) + 1;
         return cells;
     };
     kind_answer out;
@@ -86,11 +87,17 @@ kind_answer choose_kind(const kind_question& q, std::span<const T> coords, int t
     double blo[3] = {0, 0, 0}, bhi[3] = {0, 0, 0};
     bulk_box<T, D>(coords, q.cell, blo, bhi);
     bool beyond_keys = false;
-    for (int a = 0; a < D; ++a)
+    for (int a = 0; a < D; ++a) {
+        if (q.fixed[a]) {
+            blo[a] = -INFINITY, bhi[a] = INFINITY;  // nobody is outside on a fixed axis
+            continue;
+        }
         beyond_keys |= std::max(std::abs(q.lo[a]), std::abs(q.hi[a])) / q.cell >= q.hashed_key_limit;
+    }
     const double bulk_cells = cells_over(blo, bhi);
     if (bulk_cells <= cap && count_outside<T, D>(coords, blo, bhi, threads) <= q.n / 1024) {
-        for (int a = 0; a < D; ++a) out.lo[a] = blo[a], out.hi[a] = bhi[a];
+        for (int a = 0; a < D; ++a)
+            if (!q.fixed[a]) out.lo[a] = blo[a], out.hi[a] = bhi[a];
         out.cells = bulk_cells;
         out.kind = grid_kind::uniform;
     } else if (beyond_keys) {
@@ -108,7 +115,8 @@ kind_answer choose_kind(const kind_question& q, std::span<const T> coords, int t
             if (klo[a] > khi[a]) klo[a] = khi[a] = 0;  // no coordinate near: one layer of cells
         const double cells = cells_over(klo, khi);
         if (cells <= q.uniform_cell_limit) {
-            for (int a = 0; a < D; ++a) out.lo[a] = klo[a], out.hi[a] = khi[a];
+            for (int a = 0; a < D; ++a)
+                if (!q.fixed[a]) out.lo[a] = klo[a], out.hi[a] = khi[a];
             out.cells = cells;
             out.kind = grid_kind::uniform;
         }
@@ -116,9 +124,36 @@ kind_answer choose_kind(const kind_question& q, std::span<const T> coords, int t
     return out;
 }
 
+template <class T, int D>
+void span_open_axes(kind_question q, const bool* wraps, const double* box, std::span<const T> coords, int threads,
+                    double* lo, double* hi) {
+    bool open = false;
+    q.asked = grid_kind::automatic;
+    q.fixed_cells = 1;
+    for (int a = 0; a < D; ++a) {
+        q.lo[a] = lo[a], q.hi[a] = hi[a];
+        q.fixed[a] = wraps[a];
+        if (wraps[a]) q.fixed_cells *= std::clamp(std::floor(box[a] / q.cell), 1.0, 0x1p30);
+        open = open || !wraps[a];
+    }
+    if (!open) return;
+    const kind_answer choice = choose_kind<T, D>(q, coords, threads);
+    for (int a = 0; a < D; ++a)
+        if (!wraps[a]) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
+}
+
 template kind_answer choose_kind<float, 2>(const kind_question&, std::span<const float>, int);
 template kind_answer choose_kind<float, 3>(const kind_question&, std::span<const float>, int);
 template kind_answer choose_kind<double, 2>(const kind_question&, std::span<const double>, int);
 template kind_answer choose_kind<double, 3>(const kind_question&, std::span<const double>, int);
+
+template void span_open_axes<float, 2>(kind_question, const bool*, const double*, std::span<const float>, int,
+                                       double*, double*);
+template void span_open_axes<float, 3>(kind_question, const bool*, const double*, std::span<const float>, int,
+                                       double*, double*);
+template void span_open_axes<double, 2>(kind_question, const bool*, const double*, std::span<const double>, int,
+                                        double*, double*);
+template void span_open_axes<double, 3>(kind_question, const bool*, const double*, std::span<const double>, int,
+                                        double*, double*);
 
 }  // namespace frnn::detail

@@ -22,6 +22,10 @@ struct kind_question {
     double hashed_key_limit = 0;
     /// The most cells a uniform grid of the backend may have.
     double uniform_cell_limit = 0;
+    /// Axes the caller lays out itself (the periodic axes of a box with open ones): their
+    /// lo/hi are kept, they count as `fixed_cells` cells in all, and no bulk is taken on them.
+    bool fixed[3] = {false, false, false};
+    double fixed_cells = 1;
 };
 
 /// The answer: the kind (never automatic) and, for a uniform grid, its box and cell count.
@@ -36,5 +40,14 @@ struct kind_answer {
 /// automatic is kept; the caller checks a uniform grid against its cell limit.
 template <class T, int D>
 kind_answer choose_kind(const kind_question& q, std::span<const T> coords, int threads);
+
+/// The span of the open axes of a box with periodic ones (wraps[a], lengths box[a]), in lo/hi
+/// (given: the points' box): the points' box, or their bulk with far outliers in the border
+/// cells when the whole span needs too many cells, as choose_kind decides for `q` (its n,
+/// cell, radius and limits set). A hashed grid does not wrap, so a uniform one takes the
+/// outliers however many.
+template <class T, int D>
+void span_open_axes(kind_question q, const bool* wraps, const double* box, std::span<const T> coords, int threads,
+                    double* lo, double* hi);
 
 }  // namespace frnn::detail

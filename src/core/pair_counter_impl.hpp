@@ -226,7 +226,9 @@ struct pair_counter {
         auto delta = [&](int a, std::uint32_t j) {
             vec d = c[a] - V::splat(x[a][j]);
             if constexpr (Wrap == wrap_mode::shift) d -= shift_v[a];
-            if constexpr (Wrap == wrap_mode::min_image) d -= box_v[a] * V::round_even(d / box_v[a]);
+            if constexpr (Wrap == wrap_mode::min_image) {
+                if (box[a] > T(0)) d -= box_v[a] * V::round_even(d / box_v[a]);  // a periodic axis
+            }
             return d;
         };
         // Half: the ids of the vector's candidates (0 past the run, where no lane hits).

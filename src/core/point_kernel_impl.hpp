@@ -87,7 +87,7 @@ struct candidate_filter {
 
 /// How a periodic box's differences d = candidate - point are wrapped: not at all (the caller
 /// knows every correction is zero), by the candidates' shifts (image * L, grid::images_exact),
-/// or by the minimum image, d -= L * nearbyint(d / L) per axis, as
+/// or by the minimum image, d -= L * nearbyint(d / L) on each periodic axis (L > 0), as
 /// grid::distance_squared_sorted computes it. The three give the same values where they apply.
 enum class wrap_mode { none, shift, min_image };
 
@@ -98,11 +98,12 @@ struct point_kernel {
     using vec = typename L::vec;
     vec x[D];
     vec box[D];
+    bool wraps[D];  ///< periodic axes (box length > 0); the others are open
     vec limit;
 
     point_kernel(const T* point, T r2, const T* box_lengths) : limit(L::splat(r2)) {
         for (int a = 0; a < D; ++a) x[a] = L::splat(point[a]);
-        for (int a = 0; a < D; ++a) box[a] = L::splat(box_lengths[a]);
+        for (int a = 0; a < D; ++a) box[a] = L::splat(box_lengths[a]), wraps[a] = box_lengths[a] > T(0);
     }
 
     /// A block's coordinate and shift columns.
@@ -120,7 +121,9 @@ struct point_kernel {
         vec d = L::load(c.c[a] + k) - x[a];
         // Padding lanes (+infinity) stay infinite or become NaN, which fails every comparison.
         if constexpr (Wrap == wrap_mode::shift) d -= L::load(c.shift[a] + k);
-        if constexpr (Wrap == wrap_mode::min_image) d -= box[a] * L::round_even(d / box[a]);
+        if constexpr (Wrap == wrap_mode::min_image) {
+            if (wraps[a]) d -= box[a] * L::round_even(d / box[a]);
+        }
         return d;
     }
 

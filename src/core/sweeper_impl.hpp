@@ -110,7 +110,7 @@ struct sweeper {
         if constexpr (!Periodic) return false;
         if (group_wraps || !job.of_queries()) return group_wraps;
         for (int a = 0; a < D; ++a)
-            if (!(x[a] >= T(0) && x[a] < box[a])) return true;
+            if (box[a] > T(0) && !(x[a] >= T(0) && x[a] < box[a])) return true;
         return false;
     }
 
@@ -129,14 +129,14 @@ struct sweeper {
     /// Periodic box: whether the minimum image may differ from the plain difference for a
     /// point of `cell` and a candidate of its stencil. It cannot when every point lies inside
     /// the box, the stencil does not wrap, and the box spans at least 2k + 3 cells: then
-    /// |d| < (k + 1) cells < box / 2 on every axis, so nearbyint(d / box) = 0.
+    /// |d| < (k + 1) cells < box / 2 on every periodic axis, so nearbyint(d / box) = 0.
     bool wraps(const std::array<std::int64_t, 3>& cell) const {
         if constexpr (!Periodic) return false;
         if (!grid_access::points_inside_box(g)) return true;
         const auto dims = g.geometry().dims;
         const int k = g.reach();
         for (int a = 0; a < D; ++a)
-            if (dims[a] < 2 * k + 3 || cell[a] < k || cell[a] + k >= dims[a]) return true;
+            if (box[a] > T(0) && (dims[a] < 2 * k + 3 || cell[a] < k || cell[a] + k >= dims[a])) return true;
         return false;
     }
 

@@ -16,7 +16,8 @@ std::string check_points(std::span<const T> coords, std::span<const double> peri
     if (!periodic.empty() && periodic.size() != std::size_t(D))
         return "periodic box needs " + std::to_string(D) + " lengths, got " + std::to_string(periodic.size());
     for (double length : periodic)
-        if (!(length > 0) || !std::isfinite(length)) return "periodic box length " + std::to_string(length) + " must be finite and > 0";
+        if (!(length >= 0) || !std::isfinite(length))
+            return "periodic box length " + std::to_string(length) + " must be finite and > 0 (or 0: an open axis)";
     const std::size_t n = coords.size() / D;
     if (!weights.empty() && weights.size() != n)
         return std::to_string(weights.size()) + " weights for " + std::to_string(n) + " particles";
@@ -28,7 +29,7 @@ std::string check_points(std::span<const T> coords, std::span<const double> peri
             const double x = double(coords[i * D + std::size_t(a)]);
             if (!std::isfinite(x))
                 return "particle " + std::to_string(i) + " has a non-finite coordinate on axis " + std::to_string(a);
-            if (!periodic.empty() && !(x >= 0 && x < periodic[std::size_t(a)]))
+            if (!periodic.empty() && periodic[std::size_t(a)] > 0 && !(x >= 0 && x < periodic[std::size_t(a)]))
                 return "particle " + std::to_string(i) + " lies outside the periodic box [0, " +
                        std::to_string(periodic[std::size_t(a)]) + ") on axis " + std::to_string(a) + ": " + std::to_string(x);
         }

@@ -69,8 +69,9 @@ decomposition<T, D>::decomposition(MPI_Comm comm, std::span<const T> coords, dou
     spans[0].first = 0;
     spans[0].last = size;
     for (int a = 0; a < D; ++a) {
-        spans[0].lower[std::size_t(a)] = periodic_.empty() ? -std::numeric_limits<double>::infinity() : 0.0;
-        spans[0].upper[std::size_t(a)] = periodic_.empty() ? std::numeric_limits<double>::infinity() : periodic_[std::size_t(a)];
+        const bool wraps = !periodic_.empty() && periodic_[std::size_t(a)] > 0;
+        spans[0].lower[std::size_t(a)] = wraps ? 0.0 : -std::numeric_limits<double>::infinity();
+        spans[0].upper[std::size_t(a)] = wraps ? periodic_[std::size_t(a)] : std::numeric_limits<double>::infinity();
     }
     nodes_.assign(1, node{});
     std::vector<int> node_of(n, 0);

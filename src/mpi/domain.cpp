@@ -26,10 +26,13 @@ std::string check_options(T radius, const domain_options& o) {
     if (!(o.imbalance >= 0)) return "imbalance threshold " + std::to_string(o.imbalance) + " must be >= 0";
     if (!o.periodic.empty() && o.periodic.size() != std::size_t(D))
         return "periodic box needs " + std::to_string(D) + " lengths, got " + std::to_string(o.periodic.size());
-    for (double length : o.periodic)
+    for (std::size_t a = 0; a < o.periodic.size(); ++a) {
+        const double length = o.periodic[a];
+        if (length == 0) continue;  // an open axis
         if (!(length > 2 * (double(radius) + o.skin)) || !std::isfinite(length))
-            return "periodic box length " + std::to_string(length) + " must be finite and > 2 (radius + skin) = " +
-                   std::to_string(2 * (double(radius) + o.skin));
+            return "periodic box length " + std::to_string(length) + " on axis " + std::to_string(a) +
+                   " must be 0 (open) or finite and > 2 (radius + skin) = " + std::to_string(2 * (double(radius) + o.skin));
+    }
     return {};
 }
 
@@ -203,6 +206,7 @@ csr<T> domain<T, D>::neighbor_lists(bool distances) const {
             if (!test.within(xi, xj, d2)) continue;
             bool minimum_image = true;
             for (int a = 0; a < D && test.periodic; ++a) {
+                if (!(test.box[a] > 0)) continue;  // an open axis: no images
                 // The image the single-process test took (as distance_test computes it) must be
                 // this candidate's: another image of the same particle would count it twice.
                 const T d = xj[a] * test.scale - xi[a] * test.scale;

@@ -38,6 +38,7 @@ halo<T, D>::halo(MPI_Comm comm, const decomposition<T, D>& domain, std::span<con
                 y[a] = x;
                 if (image[std::size_t(a)] == 0) continue;
                 const double length = box_[std::size_t(a)];
+                useful &= length > 0;  // an open axis has no images
                 y[a] = x + image[std::size_t(a)] * length;
                 // An image further than reach from the box is near no sub-domain.
                 useful &= image[std::size_t(a)] > 0 ? y[a] - reach < length : y[a] + reach >= 0;

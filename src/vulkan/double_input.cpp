@@ -49,6 +49,7 @@ template <int D>
 float candidate_radius(double r, double largest, const grid_options& o) {
     double box = 0;
     for (std::size_t a = 0; a < o.periodic.size(); ++a) {
+        if (o.periodic[a] == 0) continue;  // an open axis
         if (!(o.periodic[a] >= 2 * r) || !std::isfinite(o.periodic[a]))
             throw error(who + ": periodic box length " + std::to_string(o.periodic[a]) + " on axis " +
                         std::to_string(a) + " is not a finite length of at least twice the radius");
@@ -65,7 +66,7 @@ float candidate_radius(double r, double largest, const grid_options& o) {
     if (!std::isfinite(rc))
         throw error(who + ": radius " + std::to_string(r) + " is beyond the float range of the device");
     for (std::size_t a = 0; a < o.periodic.size(); ++a)
-        if (double(float(o.periodic[a])) < 2 * double(rc))
+        if (o.periodic[a] != 0 && double(float(o.periodic[a])) < 2 * double(rc))
             throw error(who + ": periodic box length " + std::to_string(o.periodic[a]) + " on axis " +
                         std::to_string(a) + " is less than twice the widened float radius " +
                         std::to_string(rc) + " the device would search; use the CPU grid");

@@ -32,8 +32,13 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
     const double cell = o.cell_size > 0 ? o.cell_size * double(s) : double(g.search_radius);
     g.reach = int(std::ceil(double(g.search_radius) / cell));
     const double max_cells = double(dev->info().max_storage_buffer_range) / 4 - 1;
-    if (!o.periodic.empty()) {
-        configure_periodic(g, o, count, r, s, cell, lo, hi);
+    bool periodic = false;
+    for (double length : o.periodic) periodic = periodic || length != 0;
+    if (!o.periodic.empty() && o.periodic.size() != std::size_t(dim))
+        throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) +
+                    " lengths (0 for an open axis), got " + std::to_string(o.periodic.size()));
+    if (periodic) {
+        configure_periodic(g, o, count, r, s, cell, lo, hi, points);
     } else {
         frnn::detail::kind_question q;
         q.asked = o.kind;
@@ -65,31 +70,40 @@ grid_layout grid_state::configure(const grid_options& o, std::size_t count, floa
     return l;
 }
 
-// Periodic box [0, L) per axis: the CPU grid's cells (cell_rules.hpp). Lengths are checked in
-// the caller's units.
+// A box with periodic axes, [0, L) on each: the CPU grid's cells (cell_rules.hpp), its open
+// axes over the points' span or bulk (kind_policy.hpp). Lengths are checked in the caller's units.
 void grid_state::configure_periodic(grid_geometry<float>& g, const grid_options& o, std::size_t count, float r,
-                                    float s, double cell, const double* lo, const double* hi) const {
-    if (o.periodic.size() != std::size_t(dim))
-        throw error("vulkan::grid::build: periodic box needs " + std::to_string(dim) + " lengths, got " +
-                    std::to_string(o.periodic.size()));
+                                    float s, double cell, double* lo, double* hi, std::span<const float> points) const {
     double search_box[3] = {0, 0, 0};
     g.periodic = true;
     g.inside_box = true;
     for (int a = 0; a < dim; ++a) {
         const double length = o.periodic[a];
-        if (!std::isfinite(length) || length < 2 * double(r) || length > double(std::numeric_limits<float>::max()))
+        if (length == 0) continue;  // an open axis
+        if (!std::isfinite(length) || length < 0 || length > double(std::numeric_limits<float>::max()))
             throw error("vulkan::grid::build: periodic box length " + std::to_string(length) + " on axis " +
-                        std::to_string(a) + " is smaller than twice the radius (" + std::to_string(2 * double(r)) +
-                        ") or not a finite float");
+                        std::to_string(a) + " is not 0 (open) or a positive finite float");
+        if (length < 2 * double(r))
+            throw error("vulkan::grid::build: periodic box length " + std::to_string(length) + " on axis " +
+                        std::to_string(a) + " is smaller than twice the radius (" + std::to_string(2 * double(r)) + ")");
         // The oracle's box: the length rounded to float, then scaled (exact: a power of two).
         g.box[a] = float(length) * s;
+        g.wraps[a] = true;
         if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(g.box[a]) * 0x1p30)
             throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
                         std::to_string(a));
         g.inside_box = g.inside_box && lo[a] >= 0 && hi[a] < double(g.box[a]);
         search_box[a] = length * double(s);
     }
-    frnn::detail::lay_out_periodic_cells(g, search_box, dim, cell, count);
+    frnn::detail::kind_question q;
+    q.n = count;
+    q.cell = cell;
+    q.radius = double(g.search_radius);
+    q.hashed_key_limit = INFINITY;
+    q.uniform_cell_limit = double(dev->info().max_storage_buffer_range) / 4 - 1;
+    if (dim == 2) frnn::detail::span_open_axes<float, 2>(q, g.wraps.data(), search_box, points, 1, lo, hi);
+    else frnn::detail::span_open_axes<float, 3>(q, g.wraps.data(), search_box, points, 1, lo, hi);
+    frnn::detail::lay_out_periodic_cells(g, search_box, lo, hi, dim, cell, count);
 }
 
 // grid.glsl's parameters from the geometry.

@@ -17,7 +17,7 @@ grid_state::row_source grid_state::upload_queries(std::span<const float> q, cons
         if (!std::isfinite(q[i]))
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " has a non-finite coordinate (axis " + std::to_string(i % dim) + ")");
-        if (params.periodic && std::abs(double(q[i]) * geometry.scale) >= double(params.box[i % dim]) * 0x1p30)
+        if (geometry.wraps[i % dim] && std::abs(double(q[i]) * geometry.scale) >= double(params.box[i % dim]) * 0x1p30)
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " lies more than 2^30 periodic boxes away on axis " + std::to_string(i % dim));
     }

@@ -122,7 +122,7 @@ struct grid_state {
     grid_layout configure(const grid_options& o, std::size_t count, float r, float s, const float* lo,
                           const float* hi, std::span<const float> points) const;
     void configure_periodic(grid_geometry<float>& g, const grid_options& o, std::size_t count, float r, float s,
-                            double cell, const double* lo, const double* hi) const;
+                            double cell, double* lo, double* hi, std::span<const float> points) const;
     grid_params device_params(const grid_geometry<float>& g, std::size_t count) const;
     void check_arguments(std::size_t count, float r, const grid_options& o) const;
     float scale_for(float r, const float* lo, const float* hi, const grid_options& o) const;

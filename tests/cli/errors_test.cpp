@@ -52,7 +52,9 @@ TEST_F(cli_errors, usage_errors_exit_2) {
     expect_failure(dir, "query p.npy -r 1 --self --queries flat.csv", 2, {"--self"});
     expect_failure(dir, "query p.npy -r 1 --periodic 4,4", 2, {"--periodic", "3 box lengths", "got 2"});
     expect_failure(dir, "query p.npy -r 1 --periodic 4,x,4", 2, {"--periodic", "'x'"});
-    expect_failure(dir, "query p.npy -r 1 --periodic 4,1,4", 2, {"--periodic", "2 * radius"});
+    expect_failure(dir, "query p.npy -r 1 --periodic 4,1,4", 2, {"--periodic", "2 * radius", "axis 1"});
+    expect_failure(dir, "query p.npy -r 1 --periodic 4,0,1", 2, {"--periodic", "2 * radius", "axis 2"});
+    expect_failure(dir, "query p.npy -r 1 --periodic 4,-1,4", 2, {"--periodic", "'-1'"});
     expect_failure(dir, "", 2, {});
 }
 

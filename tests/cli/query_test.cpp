@@ -165,6 +165,22 @@ TEST(cli_query, periodic_box) {
     EXPECT_GT(expected.size(), pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, true), true).size());
 }
 
+// A box with an open axis: 0 on y, pairs wrap across x and z only.
+TEST(cli_query, periodic_on_some_axes) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(300, 5.0, 16);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    ASSERT_EQ(run_tool(dir, "query p.npy -r 1 --periodic 5,0,5 -o out.npy").code, 0);
+    const double box[3] = {5, 0, 5};
+    const auto expected = pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, true, box), true);
+    EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected);
+    const double all[3] = {5, 5, 5};
+    const auto wrapped_everywhere = pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, true, all), true);
+    const auto open = pairs_of(brute_force_lists<double, 3>(xyz, xyz, 1.0, true), true);
+    EXPECT_GT(expected.size(), open.size());
+    EXPECT_LT(expected.size(), wrapped_everywhere.size());
+}
+
 TEST(cli_query, empty_input_gives_no_pairs) {
     const auto dir = fresh_dir();
     write_bytes(dir / "e.csv", "x,y,z\n");

@@ -78,6 +78,7 @@ TEST(MpiCli, OutputIsTheSingleProcessFileOnEveryOracleSet) {
     const double box[3] = {8, 6, 7};
     for (std::size_t i = 0; i < box_points.size(); ++i) box_points[i] = std::min(box_points[i] * box[i % 3], box[i % 3] * 0.999999);
     expect_same_files<double, 3>("periodic", box_points, "in.npy", ".npz", "-r 1.1 --periodic 8,6,7");
+    expect_same_files<double, 3>("periodic_on_x_and_z", box_points, "in.npy", ".npz", "-r 1.1 --periodic 8,0,7");
     std::vector<double> outliers = uniform_points<double, 3>(600, 0, 5, 64);
     append_point<double, 3>(outliers, 1e6);
     append_point<double, 3>(outliers, -1e6);

@@ -102,6 +102,27 @@ TYPED_TEST(MpiSearch, PeriodicBoxes) {
     check_set<T, D>(lattice_points<T, D>(side, 1.0), T(1), std::vector<double>(D, side), "periodic lattice at exactly r");
 }
 
+// Periodic on some axes only (0 on the open ones): a channel with a far outlier on its open
+// axis, and a lattice at exactly r across the periodic faces.
+TYPED_TEST(MpiSearch, PeriodicOnSomeAxes) {
+    using T = typename TypeParam::T;
+    constexpr int D = TypeParam::D;
+    const std::vector<double> box = D == 2 ? std::vector<double>{8, 0} : std::vector<double>{8, 0, 7};
+    std::vector<T> points = uniform_points<T, D>(D == 2 ? 900 : 1200, 0, 1, 25);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        points[i] = T(points[i] * (box[i % D] > 0 ? box[i % D] : 6.0));
+        if (box[i % D] > 0 && double(points[i]) >= box[i % D]) points[i] = 0;
+    }
+    for (double y : {1e6, -1e6, 1e6 + 0.25}) {
+        for (int a = 0; a < D; ++a) points.push_back(T(a == 1 ? y : 1.0));
+    }
+    check_set<T, D>(points, T(1.1), box, "channel");
+    const int side = D == 2 ? 12 : 7;
+    std::vector<double> lattice_box(D, double(side));
+    lattice_box[0] = 0;
+    check_set<T, D>(lattice_points<T, D>(side, 1.0), T(1), lattice_box, "lattice periodic but on x");
+}
+
 TYPED_TEST(MpiSearch, AdversarialSets) {
     using T = typename TypeParam::T;
     constexpr int D = TypeParam::D;

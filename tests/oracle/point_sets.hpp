@@ -106,14 +106,14 @@ void append_point(std::vector<T>& points, double value) {
 namespace frnn::test {
 
 /// Query points for `data`: `n` uniform over its bounding box grown by 2r on every side (so some
-/// fall outside the data's cells), plus one far point. With `periodic` non-empty, uniform in the
-/// box [0, L) instead.
+/// fall outside the data's cells), plus one far point. On the periodic axes of `periodic`
+/// (length > 0), uniform in [0, L) instead; the far point only when no axis is periodic.
 template <class T, int D>
 std::vector<T> query_points(const std::vector<T>& data, double radius, std::size_t n,
                             const std::vector<double>& periodic, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
     double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
-    if (periodic.empty() && !data.empty()) {
+    if (!data.empty()) {
         for (int a = 0; a < D; ++a) {
             lo[a] = std::numeric_limits<double>::infinity();
             hi[a] = -lo[a];
@@ -126,14 +126,18 @@ std::vector<T> query_points(const std::vector<T>& data, double radius, std::size
             lo[a] -= 2 * radius;
             hi[a] += 2 * radius;
         }
-    } else if (periodic.size() == std::size_t(D)) {
-        for (std::size_t a = 0; a < periodic.size(); ++a) hi[a] = periodic[a];
+    }
+    bool some_periodic = false;
+    for (std::size_t a = 0; a < periodic.size() && a < std::size_t(D); ++a) {
+        if (periodic[a] <= 0) continue;
+        lo[a] = 0, hi[a] = periodic[a];
+        some_periodic = true;
     }
     std::vector<T> out;
     for (std::size_t i = 0; i < n; ++i)
         for (int a = 0; a < D; ++a)
             out.push_back(T(std::uniform_real_distribution<double>(lo[a], hi[a])(rng)));
-    if (periodic.empty()) append_point<T, D>(out, -1e6);
+    if (!some_periodic) append_point<T, D>(out, -1e6);
     return out;
 }
 

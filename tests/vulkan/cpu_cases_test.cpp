@@ -179,6 +179,31 @@ TEST_F(vulkan_cpu_cases, periodic_boxes) {
         box_case.operator()<2>(b, 0.75f, 200, 64);
 }
 
+// mixed_periodic_test.cpp: boxes periodic on some axes only (0 on the open ones), among them
+// exactly 2r, points spread past the box on the open axes, and two far outliers there.
+TEST_F(vulkan_cpu_cases, periodic_on_some_axes) {
+    auto box_case = [&]<int D>(const std::vector<double>& box_in_r, float r, std::size_t n, std::uint64_t seed) {
+        grid_options base;
+        for (int a = 0; a < D; ++a) base.periodic.push_back(box_in_r[a] * double(r));
+        auto pts = uniform_points<float, D>(n, 0, 1, seed);
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const double len = base.periodic[i % D];
+            pts[i] = len > 0 ? std::min(float(double(pts[i]) * len), std::nextafter(float(len), 0.0f))
+                             : float((double(pts[i]) * 6 - 1) * double(r));
+        }
+        const auto queries = query_points<float, D>(pts, r, 80, base.periodic, seed + 1);
+        for (float far : {-3e4f, 5e4f})
+            for (int a = 0; a < D; ++a) pts.push_back(base.periodic[std::size_t(a)] > 0 ? float(r) : far * r);
+        SCOPED_TRACE("box " + std::to_string(box_in_r[0]) + "r x " + std::to_string(box_in_r[1]) + "r");
+        every_grid<D>(pts, r, queries, base, {grid_kind::automatic});
+    };
+    box_case.operator()<3>({2, 0, 2}, 0.5f, 300, 66);
+    box_case.operator()<3>({0, 0, 4.5}, 0.5f, 300, 67);
+    box_case.operator()<3>({3.7, 5.1, 0}, 0.5f, 300, 68);
+    box_case.operator()<2>({0, 2.5}, 0.75f, 200, 69);
+    box_case.operator()<2>({7.3, 0}, 0.75f, 200, 70);
+}
+
 TEST_F(vulkan_cpu_cases, periodic_lattices_and_faces) {
     auto lattice = [&]<int D>(double len, float r) {
         grid_options base;

@@ -104,6 +104,8 @@ TEST_F(vulkan_double, random_and_periodic_sets) {
     periodic.periodic = {7.3, 5.1};
     auto p2 = uniform_points<double, 2>(500, -2, 9, 48);  // some outside the box, wrapped
     check<2>(p2, 1.0, query_points<double, 2>(p2, 1.0, 40, periodic.periodic, 49), periodic);
+    periodic.periodic = {0, 5.1};  // periodic in y only
+    check<2>(p2, 1.0, query_points<double, 2>(p2, 1.0, 40, periodic.periodic, 50), periodic);
 }
 
 TEST_F(vulkan_double, refusals_name_the_backend_and_the_precision) {
