@@ -3,6 +3,7 @@
 // the grid's formula (minimum image on the axes whose `periodic` length is > 0) and its search scale for
 // extreme radii (frnn/search_scale.hpp), so decisions at |d| == r agree.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "frnn/csr.hpp"
+#include "frnn/options.hpp"
 #include "frnn/search_scale.hpp"
 
 namespace frnn {
@@ -45,6 +47,36 @@ csr<T> brute_force_lists(std::span<const T> queries, std::span<const T> data, T 
             if (exclude_same && j == q) continue;
             T d2;
             if (test.within(&queries[q * D], &data[j * D], d2)) {
+                out.indices.push_back(std::uint32_t(j));
+                out.distances.push_back(test.distance(d2));
+            }
+        }
+        out.offsets[q + 1] = out.indices.size();
+    }
+    return out;
+}
+
+/// The same with radii of their own (grid::build with radii, grid::query with query radii):
+/// row q holds every data index j with |queries_q - data_j| <= query_radii[q] (gather, or
+/// data_radii empty), or <= max(query_radii[q], data_radii[j]) (symmetric). The search scale
+/// is that of a grid of radius `grid_radius` (the largest data radius, or the grid's one).
+template <class T, int D>
+csr<T> brute_force_lists(std::span<const T> queries, std::span<const T> query_radii, std::span<const T> data,
+                         std::span<const T> data_radii, radius_rule rule, T grid_radius, bool exclude_same,
+                         std::span<const double> periodic = {}) {
+    csr<T> out;
+    const std::size_t nq = queries.size() / D, nd = data.size() / D;
+    const T s = search_scale<T>(grid_radius, largest_magnitude<T>(data, periodic));
+    const distance_test<T, D> test(grid_radius, s, periodic);
+    const bool symmetric = rule == radius_rule::symmetric && !data_radii.empty();
+    auto squared = [&](T r) { return (r * s) * (r * s); };
+    out.offsets.assign(nq + 1, 0);
+    for (std::size_t q = 0; q < nq; ++q) {
+        const T own = squared(query_radii[q]);
+        for (std::size_t j = 0; j < nd; ++j) {
+            if (exclude_same && j == q) continue;
+            const T d2 = test.scaled_distance_squared(&queries[q * D], &data[j * D]);
+            if (d2 <= (symmetric ? std::max(own, squared(data_radii[j])) : own)) {
                 out.indices.push_back(std::uint32_t(j));
                 out.distances.push_back(test.distance(d2));
             }

@@ -3,6 +3,11 @@
 // Two points i != j are neighbors when |x_i - x_j| <= r (the real radius, never its square),
 // with minimum-image distances when the grid is periodic.
 //
+// With a radius per point (build with `radii`), j is a neighbor of i when |x_i - x_j| <= r_i
+// (radius_rule::gather) or <= max(r_i, r_j) (radius_rule::symmetric), as grid_options::rule
+// says. Cells are sized from the largest radius; a point of a small radius visits only the
+// cells within its own radius (gather). Query points then come with radii of their own.
+//
 // Construction is a counting sort of the points by cell (per-cell counts with an index inside
 // the cell, exclusive prefix sum, stable scatter), so the grid keeps a copy of the points in
 // cell order plus the map between that order and the caller's. Build is O(N + cells); a query
@@ -60,8 +65,19 @@ public:
         build(coords, radius, options);
     }
     void build(std::span<const T> coords, T radius, const grid_options& options = {});
-    /// Builds again over new coordinates with the same radius and options, reusing memory.
+    /// Builds with a radius per point: radii[i] (finite, > 0) for point i, pairs by
+    /// options.rule. radius() is then the largest radius (1 for no points). A bad radius
+    /// throws frnn::error naming its index.
+    grid(std::span<const T> coords, std::span<const T> radii, const grid_options& options = {}) {
+        build(coords, radii, options);
+    }
+    void build(std::span<const T> coords, std::span<const T> radii, const grid_options& options = {});
+    /// Builds again over new coordinates with the same radius (or radii) and options, reusing
+    /// memory.
     void rebuild(std::span<const T> coords);
+    /// Whether the grid has a radius per point; point_radii() gives them in the caller's order.
+    bool has_point_radii() const { return point_radii_; }
+    std::span<const T> point_radii() const { return radii_; }
 
     std::size_t size() const { return perm_.size(); }
     /// Where the cells are and how they are numbered (frnn/grid_geometry.hpp): the cells a
@@ -101,7 +117,7 @@ public:
     void for_each_neighbor(std::size_t i, F&& f) const {
         check_index(i);
         const std::uint32_t s = original_to_sorted()[i];
-        for_each_near_sorted(sorted_point(s), [&](std::uint32_t j, T d2) {
+        for_each_near_sorted(sorted_point(s), own_limit(s), [&](std::uint32_t j, T d2) {
             if (j != s) f(perm_[j], d2);
         });
     }
@@ -110,14 +126,24 @@ public:
     template <class F>
     void for_each_neighbor_sorted(std::size_t s, F&& f) const {
         if (s >= size()) throw_bad_index(s);
-        for_each_near_sorted(sorted_point(s), [&](std::uint32_t j, T d2) {
+        for_each_near_sorted(sorted_point(s), own_limit(std::uint32_t(s)), [&](std::uint32_t j, T d2) {
             if (j != s) f(j, d2);
         });
     }
     /// Calls f(j, distance_squared) for every grid point j (caller's index) within r of x.
+    /// Not on a grid with a radius per point: give x a radius then.
     template <class F>
     void for_each_neighbor_of(const point& x, F&& f) const {
-        for_each_near_sorted(search_point(x, 0), [&](std::uint32_t j, T d2) { f(perm_[j], d2); });
+        require_one_radius("for_each_neighbor_of");
+        for_each_near_sorted(search_point(x, 0), geometry_.search_radius * geometry_.search_radius,
+                             [&](std::uint32_t j, T d2) { f(perm_[j], d2); });
+    }
+    /// The same for a query point x of radius `radius` (finite, > 0, at most radius()):
+    /// within `radius` of x (gather) or within max(radius, r_j) (symmetric).
+    template <class F>
+    void for_each_neighbor_of(const point& x, T radius, F&& f) const {
+        const T r = check_query_radius(radius, 0);
+        for_each_near_sorted(search_point(x, 0), r * r, [&](std::uint32_t j, T d2) { f(perm_[j], d2); });
     }
 
     /// Number of neighbors of every point.
@@ -131,10 +157,19 @@ public:
     /// At most k nearest neighbors within r of every point, sorted by distance (ties by index).
     csr<T> nearest(std::size_t k, const list_options& options = {}) const;
     /// Points of this grid within r of each query point (N_q*D interleaved values): row q holds
-    /// grid indices. `half` and `self` do not apply; `space` numbers the grid's points.
+    /// grid indices. `half` and `self` do not apply; `space` numbers the grid's points. Not on
+    /// a grid with a radius per point (those take the queries' radii, below).
     csr<T> query(std::span<const T> queries, const list_options& options = {}) const;
     std::vector<std::uint32_t> query_counts(std::span<const T> queries) const;
     csr<T> query_nearest(std::span<const T> queries, std::size_t k,
+                         const list_options& options = {}) const;
+    /// The same with a radius per query point (query_radii[q]: finite, > 0, at most radius();
+    /// an error names the first that is not): row q holds the grid points within
+    /// query_radii[q] of query q (gather, and every grid with one radius), or within
+    /// max(query_radii[q], r_j) (symmetric).
+    csr<T> query(std::span<const T> queries, std::span<const T> query_radii, const list_options& options = {}) const;
+    std::vector<std::uint32_t> query_counts(std::span<const T> queries, std::span<const T> query_radii) const;
+    csr<T> query_nearest(std::span<const T> queries, std::span<const T> query_radii, std::size_t k,
                          const list_options& options = {}) const;
 
     /// Permutes the caller's array into cell order: data[s] <- old data[sorted_to_original[s]],
@@ -163,9 +198,10 @@ private:
     /// uniform grid with open boundaries, `width` > 1 takes the union of the stencils of that
     /// many cells along x from `cell` on (which must lie in the grid). Periodic boxes: the
     /// runs come in increasing order of sorted index, and with `images` each run's image
-    /// (runs of different images are not merged).
+    /// (runs of different images are not merged). `reach` > 0: that many cells on each side
+    /// instead of reach() (at most reach()).
     std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
-                             std::int64_t width = 1, detail::run_image* images = nullptr) const;
+                             std::int64_t width = 1, detail::run_image* images = nullptr, int reach = 0) const;
     /// The forward half of that stencil: the cells after `cell` in row-major order of cell
     /// coordinates (itself included, first), so that visiting these from every cell meets each
     /// pair of cells once (pairs inside the first run once by index order). `width` as for
@@ -222,20 +258,32 @@ private:
         for (int a = 0; a < D; ++a) p[a] = pos_[a][s];
         return p;
     }
+    /// f(j, distance squared) for the sorted points j within the limit of x: r2 (search
+    /// space, squared), or max(r2, r_j^2) on a symmetric grid with a radius per point.
     template <class F>
-    void for_each_near_sorted(const point& x, F&& f) const {
+    void for_each_near_sorted(const point& x, T r2, F&& f) const {
         detail::candidate_run runs[detail::max_runs];
         const std::size_t n = candidate_runs(x, runs);
-        const T r2 = geometry_.search_radius * geometry_.search_radius;
         const T inv = T(1) / geometry_.scale;
+        const bool symmetric = point_radii_ && options_.rule == radius_rule::symmetric;
         for (std::size_t k = 0; k < n; ++k) {
             const auto& run = runs[k];
             for (std::uint32_t j = run.begin; j < run.end; ++j) {
                 const T d2 = distance_squared_sorted(x, j);
-                if (d2 <= r2) f(j, unscale_squared(d2, inv));
+                if (d2 <= (symmetric ? std::max(r2, point_r2_[j]) : r2)) f(j, unscale_squared(d2, inv));
             }
         }
     }
+    /// The squared search radius of sorted point s (search space): its own or the grid's.
+    T own_limit(std::uint32_t s) const {
+        return point_radii_ ? point_r2_[s] : geometry_.search_radius * geometry_.search_radius;
+    }
+    /// A query radius checked (index: for the message) and in search space.
+    T check_query_radius(T radius, std::size_t index) const;
+    /// Throws for a query without radii on a grid with a radius per point.
+    void require_one_radius(const char* what) const;
+    /// Query radii checked, squared in search space.
+    std::vector<T> query_limits(std::span<const T> query_radii, std::size_t queries) const;
     void check_index(std::size_t i) const {
         if (i >= size()) throw_bad_index(i);
     }
@@ -246,6 +294,9 @@ private:
     std::span<const T> search_queries(std::span<const T> queries, std::vector<T>& storage) const;
     void clear() noexcept;
     // The build's steps (grid_build.cpp).
+    void build_planned(std::span<const T> coords, T radius, const grid_options& options, bool per_point,
+                       std::vector<T> radii);
+    void keep_point_radii();
     void keep_input_coordinates(std::span<const T> coords);
     void sort_into_cells(std::span<const T> coords);
     void size_sort_arrays(std::size_t n, std::size_t parts);
@@ -284,11 +335,14 @@ private:
     /// Hashed grid: the sorted points [first, second) of a cell (an empty range if it has none).
     std::pair<std::uint32_t, std::uint32_t> hashed_cell_points(const std::array<std::int64_t, 3>& cell) const;
     /// Hashed grid: the runs of the stencil of a cell, or of its forward half.
-    std::size_t hashed_runs(const std::array<std::int64_t, 3>& cell, bool forward, detail::candidate_run* out) const;
+    std::size_t hashed_runs(const std::array<std::int64_t, 3>& cell, bool forward, detail::candidate_run* out,
+                            int reach) const;
 
     // Configuration.
     grid_options options_;
     T radius_ = 0;
+    bool point_radii_ = false;              // a radius per point
+    std::vector<T> radii_;                  // point radii: the caller's, in the caller's order
     grid_geometry<T> geometry_;  // kind, cells, box, search scale
     std::size_t occupied_slots_ = 0;
 
@@ -296,6 +350,7 @@ private:
     std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis, search space
     std::array<buffer<T>, D> input_pos_;    // search scale not 1: the caller's coordinates in cell order
     buffer<std::uint32_t> perm_;            // sorted -> original
+    buffer<T> point_r2_;                    // point radii: squared, search space, cell order, padded
     detail::lazy_inverse inverse_;          // original -> sorted, on first use
     std::vector<std::uint32_t> offsets_;    // run starts: of the cells, or of the occupied slots (hashed); then size()
     std::vector<detail::occupied_slot_word> occupied_;  // hashed: geometry_.slots / 32 words

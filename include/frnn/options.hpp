@@ -20,9 +20,22 @@ std::string_view to_string(grid_kind kind);
 /// Parses "auto", "uniform", "hash"/"hashed"; throws frnn::error otherwise.
 grid_kind parse_grid_kind(std::string_view text);
 
+/// Which pairs are neighbors when every point has a radius of its own (grid::build with radii).
+enum class radius_rule {
+    gather,     ///< j is a neighbor of i when |x_i - x_j| <= r_i (i's ball; rows differ from columns)
+    symmetric,  ///< when |x_i - x_j| <= max(r_i, r_j) (either ball; j in i's row iff i in j's)
+};
+
+/// "gather" or "symmetric".
+std::string_view to_string(radius_rule rule);
+/// Parses "gather" or "symmetric"; throws frnn::error otherwise.
+radius_rule parse_radius_rule(std::string_view text);
+
 struct grid_options {
     grid_kind kind = grid_kind::automatic;
-    /// Cell edge length; 0 means the radius. Smaller cells (r/2, r/3, r/4) visit
+    /// With a radius per point: which pairs are neighbors (ignored with one radius).
+    radius_rule rule = radius_rule::gather;
+    /// Cell edge length; 0 means the radius (the largest, with a radius per point). Smaller cells (r/2, r/3, r/4) visit
     /// (2*ceil(r/cell)+1)^d cells but test fewer candidates. Must lie in [r/4, r]. In a hashed
     /// grid every one of those cells is a table lookup, so small cells are slow there (W3
     /// counts at 1M points, 1 thread: 0.3 s with cells of r, 1.5 s with r/2, 18 s with r/4).

@@ -62,6 +62,7 @@ std::size_t grid<T, D>::memory_bytes() const {
     std::size_t bytes = 0;
     for (const auto& p : pos_) bytes += p.capacity() * sizeof(T);
     for (const auto& p : input_pos_) bytes += p.capacity() * sizeof(T);
+    bytes += (point_r2_.capacity() + radii_.capacity()) * sizeof(T);
     bytes += (perm_.capacity() + offsets_.capacity()) * sizeof(std::uint32_t) + inverse_.capacity_bytes();
     bytes += shared_slots_.capacity() * sizeof(std::uint64_t) + occupied_.capacity() * sizeof(detail::occupied_slot_word);
     return bytes;
@@ -74,6 +75,8 @@ void grid<T, D>::clear() noexcept {
     for (auto& p : pos_) p = buffer<T>();
     for (auto& p : input_pos_) p = buffer<T>();
     perm_ = buffer<std::uint32_t>();
+    point_r2_ = buffer<T>();
+    radii_ = {};
     thread_counts_ = {};
     scratch_.bytes = buffer<std::byte>();
     occupied_ = {};
@@ -88,22 +91,92 @@ void grid<T, D>::clear() noexcept {
 }
 
 // 1. Plan the geometry (checks everything, changes nothing), 2. take it, 3. sort the points
-// into cells and index them, 4. keep the caller's coordinates when the search scale is not 1.
-// A failure after step 1 leaves the grid empty.
+// into cells and index them, 4. keep the caller's coordinates when the search scale is not 1
+// (5. and the points' radii in cell order). A failure after step 1 leaves the grid empty.
 template <class T, int D>
 void grid<T, D>::build(std::span<const T> coords, T radius, const grid_options& options) {
+    build_planned(coords, radius, options, false, {});
+}
+
+template <class T, int D>
+void grid<T, D>::build(std::span<const T> coords, std::span<const T> radii, const grid_options& options) {
+    const std::size_t n = coords.size() / D;
+    if (coords.size() % D == 0 && radii.size() != n)
+        throw error("radius array has " + std::to_string(radii.size()) + " values for " + std::to_string(n) + " points");
+    T largest = n == 0 ? T(1) : T(0);
+    for (std::size_t i = 0; i < radii.size(); ++i) {
+        if (!std::isfinite(radii[i]) || !(radii[i] > 0))
+            throw error("radius " + std::to_string(i) + " is " + std::to_string(double(radii[i])) +
+                        " (each must be finite and > 0)");
+        largest = std::max(largest, radii[i]);
+    }
+    build_planned(coords, largest, options, true, std::vector<T>(radii.begin(), radii.end()));
+}
+
+template <class T, int D>
+void grid<T, D>::build_planned(std::span<const T> coords, T radius, const grid_options& options, bool per_point,
+                               std::vector<T> radii) {
     std::vector<T> scaled;
     const grid_geometry<T> planned = detail::plan_geometry<T, D>(coords, radius, options, scaled);
     if (&options != &options_) options_ = options;
     radius_ = radius;
     geometry_ = planned;
+    point_radii_ = per_point;
     try {
+        radii_ = std::move(radii);
         sort_into_cells(scaled.empty() ? coords : std::span<const T>(scaled));
         keep_input_coordinates(coords);
+        keep_point_radii();
     } catch (...) {
         clear();
         throw;
     }
+}
+
+// The points' radii, squared in search space, in cell order (padded for whole-vector copies).
+template <class T, int D>
+void grid<T, D>::keep_point_radii() {
+    if (!point_radii_) {
+        point_r2_ = buffer<T>();
+        return;
+    }
+    point_r2_.resize(size() + detail::coordinate_padding);
+    const int t = threads();
+    detail::for_each_chunk(size(), detail::chunk_count(size(), t, 1 << 15), t, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t s = b; s < e; ++s) {
+            const T r = radii_[perm_[s]] * geometry_.scale;
+            point_r2_[s] = r * r;
+        }
+    });
+    std::fill(point_r2_.begin() + std::ptrdiff_t(size()), point_r2_.end(), T(0));
+}
+
+template <class T, int D>
+T grid<T, D>::check_query_radius(T radius, std::size_t index) const {
+    if (!std::isfinite(radius) || !(radius > 0) || radius > radius_)
+        throw error("query radius " + std::to_string(index) + " is " + std::to_string(double(radius)) +
+                    " (each must be finite, > 0 and at most the grid's " +
+                    (point_radii_ ? "largest radius " : "radius ") + std::to_string(double(radius_)) + ")");
+    return radius * geometry_.scale;
+}
+
+template <class T, int D>
+std::vector<T> grid<T, D>::query_limits(std::span<const T> query_radii, std::size_t queries) const {
+    if (query_radii.size() != queries)
+        throw error("query radius array has " + std::to_string(query_radii.size()) + " values for " +
+                    std::to_string(queries) + " query points");
+    std::vector<T> out(queries);
+    for (std::size_t q = 0; q < queries; ++q) {
+        const T r = check_query_radius(query_radii[q], q);
+        out[q] = r * r;
+    }
+    return out;
+}
+
+template <class T, int D>
+void grid<T, D>::require_one_radius(const char* what) const {
+    if (point_radii_)
+        throw error(std::string(what) + ": this grid has a radius per point; give the query points radii too");
 }
 
 // A scaled grid keeps the caller's coordinates too, in cell order (scaling may round tiny ones).
@@ -121,7 +194,9 @@ void grid<T, D>::keep_input_coordinates(std::span<const T> coords) {
 
 template <class T, int D>
 void grid<T, D>::rebuild(std::span<const T> coords) {
-    build(coords, radius_, options_);
+    if (!point_radii_) return build(coords, radius_, options_);
+    const std::vector<T> radii = radii_;  // build takes a fresh copy, kept only on success
+    build(coords, radii, options_);
 }
 
 template <class T, int D>

@@ -73,7 +73,8 @@ struct query_engine {
 
     /// Rows of query points: sizes by a sweep over the queries in cell order, then the rows in
     /// place, as swept_lists does for the grid's own points.
-    void swept_query_lists(csr<T>& out, std::span<const T> queries, const list_options& o, std::size_t k_nearest) const {
+    void swept_query_lists(csr<T>& out, std::span<const T> queries, const list_options& o, std::size_t k_nearest,
+                           const T* query_r2) const {
         const std::size_t rows = queries.size() / D;
         const auto order = queries_by_cell(queries);
         const auto perm = g.sorted_to_original();
@@ -85,19 +86,20 @@ struct query_engine {
         job.rows = sweep_job<T>::row_source::query_points;
         job.queries = queries.data();
         job.query_order = order.data();
+        job.query_r2 = query_r2;
         resize_discarding(out.offsets, rows + 1);
         out.offsets[rows] = 0;
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        const auto kept = keeps_hit_masks(o, k_nearest) ? plan_hit_masks(job, rows, parts) : nullptr;
+        const auto kept = keeps_hit_masks(o, k_nearest, query_r2) ? plan_hit_masks(job, rows, parts) : nullptr;
         count_rows(job, rows, parts, kept.get());
         std::copy(sizes.begin(), sizes.end(), out.offsets.begin());
         fill_rows(out, job, o.distances, parts, kept.get());
     }
 
     /// Neighbor counts of query points by query index.
-    std::vector<std::uint32_t> query_counts(std::span<const T> queries) const {
+    std::vector<std::uint32_t> query_counts(std::span<const T> queries, const T* query_r2) const {
         const std::size_t rows = queries.size() / D;
         std::vector<std::uint32_t> out(rows);
         const auto order = queries_by_cell(queries);
@@ -106,6 +108,7 @@ struct query_engine {
         job.rows = sweep_job<T>::row_source::query_points;
         job.queries = queries.data();
         job.query_order = order.data();
+        job.query_r2 = query_r2;
         job.counts = out.data();
         const auto& kernels = sweep_for_cpu<T, D>();
         for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
@@ -115,9 +118,10 @@ struct query_engine {
 
     /// Neighbor lists of all grid points or of query points; with k_nearest > 0 at most that many
     /// nearest per row.
-    csr<T> lists(std::span<const T> queries, bool from_queries, const list_options& o, std::size_t k_nearest) const {
+    csr<T> lists(std::span<const T> queries, bool from_queries, const list_options& o, std::size_t k_nearest,
+                 const T* query_r2 = nullptr) const {
         csr<T> out;
-        if (from_queries) swept_query_lists(out, queries, o, k_nearest);
+        if (from_queries) swept_query_lists(out, queries, o, k_nearest, query_r2);
         else swept_lists(out, o, k_nearest);
         return out;
     }
@@ -135,6 +139,12 @@ struct query_engine {
         job.ids = ids;
         job.counts = counts;
         const auto dims = g.geometry().dims;
+        if (g.has_point_radii()) {
+            // Pairs within r_i of i are not pairs within r_j of j (gather): counted per point.
+            for_each_chunk(rows, chunk_count(rows, threads, 2048), threads,
+                           [&](std::size_t, std::size_t b, std::size_t e) { kernels.count(g, job, b, e); });
+            return;
+        }
         if (g.periodic()) {
             // The wrapped forward half-stencil meets each pair of cells once only when every
             // periodic axis has 2 reach + 1 cells or more; smaller boxes count per point.
@@ -212,7 +222,7 @@ struct query_engine {
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        const auto kept = keeps_hit_masks(o, k_nearest) ? plan_hit_masks(job, rows, parts) : nullptr;
+        const auto kept = keeps_hit_masks(o, k_nearest, nullptr) ? plan_hit_masks(job, rows, parts) : nullptr;
         // Half rows count each pair once, for the row that holds it, unless a point's sweep
         // skips the candidates before it anyway: an open uniform grid in its own numbering
         // (W8 half lists in the caller's numbering, 32,000 atoms, 1 thread: 42 -> 23 ms).
@@ -238,9 +248,11 @@ struct query_engine {
     }
 
     /// Whether the rows of a list are ones whose hit bits the count sweep can keep: rows (full
-    /// or half, not the k nearest) in block order or sorted by index, without distances.
-    static bool keeps_hit_masks(const list_options& o, std::size_t k_nearest) {
-        return k_nearest == 0 && !o.distances && o.order != row_order::distance;
+    /// or half, not the k nearest) in block order or sorted by index, without distances, and
+    /// not of points that visit cells within radii of their own.
+    bool keeps_hit_masks(const list_options& o, std::size_t k_nearest, const T* query_r2) const {
+        const bool own_radii = query_r2 || (g.has_point_radii() && g.options().rule == radius_rule::gather);
+        return k_nearest == 0 && !o.distances && o.order != row_order::distance && !own_radii;
     }
 
     /// The count sweep of a list: row sizes into job.counts, keeping the hit bits if `kept`.
@@ -366,6 +378,7 @@ csr<T> grid<T, D>::nearest(std::size_t k, const list_options& options) const {
 
 template <class T, int D>
 csr<T> grid<T, D>::query(std::span<const T> queries, const list_options& options) const {
+    require_one_radius("query");
     detail::query_engine<T, D> q(*this);
     std::vector<T> storage;
     queries = search_queries(queries, storage);
@@ -374,19 +387,50 @@ csr<T> grid<T, D>::query(std::span<const T> queries, const list_options& options
 
 template <class T, int D>
 std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T> queries) const {
+    require_one_radius("query_counts");
     detail::query_engine<T, D> q(*this);
     std::vector<T> storage;
     queries = search_queries(queries, storage);
-    return q.query_counts(queries);
+    return q.query_counts(queries, nullptr);
 }
 
 template <class T, int D>
 csr<T> grid<T, D>::query_nearest(std::span<const T> queries, std::size_t k, const list_options& options) const {
     if (k == 0) throw error("query_nearest: k must be at least 1");
+    require_one_radius("query_nearest");
     detail::query_engine<T, D> q(*this);
     std::vector<T> storage;
     queries = search_queries(queries, storage);
     return q.lists(queries, true, options, k);
+}
+
+template <class T, int D>
+csr<T> grid<T, D>::query(std::span<const T> queries, std::span<const T> query_radii, const list_options& options) const {
+    detail::query_engine<T, D> q(*this);
+    std::vector<T> storage;
+    queries = search_queries(queries, storage);
+    const std::vector<T> limits = query_limits(query_radii, queries.size() / D);
+    return q.lists(queries, true, options, 0, limits.data());
+}
+
+template <class T, int D>
+std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T> queries, std::span<const T> query_radii) const {
+    detail::query_engine<T, D> q(*this);
+    std::vector<T> storage;
+    queries = search_queries(queries, storage);
+    const std::vector<T> limits = query_limits(query_radii, queries.size() / D);
+    return q.query_counts(queries, limits.data());
+}
+
+template <class T, int D>
+csr<T> grid<T, D>::query_nearest(std::span<const T> queries, std::span<const T> query_radii, std::size_t k,
+                                 const list_options& options) const {
+    if (k == 0) throw error("query_nearest: k must be at least 1");
+    detail::query_engine<T, D> q(*this);
+    std::vector<T> storage;
+    queries = search_queries(queries, storage);
+    const std::vector<T> limits = query_limits(query_radii, queries.size() / D);
+    return q.lists(queries, true, options, k, limits.data());
 }
 
 template <class T, int D>
@@ -422,6 +466,11 @@ std::span<const T> grid<T, D>::search_queries(std::span<const T> queries, std::v
     template std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T>) const;        \
     template csr<T> grid<T, D>::query_nearest(std::span<const T>, std::size_t, const list_options&) \
         const;                                                                                      \
+    template csr<T> grid<T, D>::query(std::span<const T>, std::span<const T>, const list_options&) const; \
+    template std::vector<std::uint32_t> grid<T, D>::query_counts(std::span<const T>, std::span<const T>) \
+        const;                                                                                      \
+    template csr<T> grid<T, D>::query_nearest(std::span<const T>, std::span<const T>, std::size_t,  \
+                                              const list_options&) const;                           \
     template std::span<const T> grid<T, D>::search_queries(std::span<const T>, std::vector<T>&) const;
 FRNN_INSTANTIATE_QUERIES(float, 2)
 FRNN_INSTANTIATE_QUERIES(float, 3)

@@ -13,6 +13,8 @@ struct candidate_block {
     /// Periodic box, from gather_shifts: what the minimum image subtracts from candidate -
     /// point per axis, image * L, at each position.
     std::vector<T> shift[D];
+    /// Symmetric radius per point, from gather_r2: the candidates' squared radii.
+    std::vector<T> r2;
     std::uint32_t size = 0;
     std::uint32_t padded = 0;
 
@@ -56,6 +58,19 @@ struct candidate_block {
         }
     }
 
+    /// The squared radii of the runs' points (after gather), from the grid's point_r2.
+    void gather_r2(const grid<T, D>& g, const candidate_run* runs, std::size_t nruns) {
+        grow(r2, padded + 2 * block_multiple);
+        const T* src = grid_access::point_r2(g);
+        std::uint32_t m = 0;
+        for (std::size_t k = 0; k < nruns; ++k) {
+            const std::uint32_t len = runs[k].end - runs[k].begin;
+            copy_padded(r2.data() + m, src + runs[k].begin, len);
+            m += len;
+        }
+        std::fill(r2.data() + m, r2.data() + padded, T(0));
+    }
+
     /// Only the ids and the size of the block that gather would make.
     void gather_ids(const candidate_run* runs, std::size_t nruns, const std::uint32_t* ids) {
         std::uint32_t total = 0;
@@ -91,8 +106,10 @@ struct candidate_filter {
 /// grid::distance_squared_sorted computes it. The three give the same values where they apply.
 enum class wrap_mode { none, shift, min_image };
 
-/// One point against a candidate block, its differences wrapped as `Wrap` says.
-template <class T, int D, wrap_mode Wrap>
+/// One point against a candidate block, its differences wrapped as `Wrap` says. A candidate
+/// is a hit when d2 <= the point's limit, or, ByCandidate (symmetric radius per point), when
+/// d2 <= max(limit, the candidate's squared radius).
+template <class T, int D, wrap_mode Wrap, bool ByCandidate = false>
 struct point_kernel {
     using L = lanes_of<T>;
     using vec = typename L::vec;
@@ -106,14 +123,22 @@ struct point_kernel {
         for (int a = 0; a < D; ++a) box[a] = L::splat(box_lengths[a]), wraps[a] = box_lengths[a] > T(0);
     }
 
-    /// A block's coordinate and shift columns.
+    /// A block's coordinate, shift and radius columns.
     struct columns {
         const T* c[D];
         const T* shift[D];
-        explicit columns(const candidate_block<T, D>& b) {
+        const T* r2;
+        explicit columns(const candidate_block<T, D>& b) : r2(b.r2.data()) {
             for (int a = 0; a < D; ++a) c[a] = b.c[a].data(), shift[a] = b.shift[a].data();
         }
     };
+
+    /// The hit limit of the candidates at positions [k, k + L::n).
+    [[gnu::always_inline]] vec limit_at(const columns& c, std::uint32_t k) const {
+        if constexpr (!ByCandidate) return limit;
+        const vec theirs = L::load(c.r2 + k);
+        return limit > theirs ? limit : theirs;
+    }
 
     // Inlined by force: GCC otherwise calls d2 from some of the kernels' loops (W8 half
     // lists spent a sixth of their time in the calls).
@@ -144,7 +169,8 @@ struct point_kernel {
         const columns c(b);
         const std::uint32_t padded = b.padded;
         std::uint32_t hits = 0;
-        for (std::uint32_t k = 0; k < padded; k += L::n) hits += std::uint32_t(__builtin_popcount(L::le_bits(d2(c, k), limit)));
+        for (std::uint32_t k = 0; k < padded; k += L::n)
+            hits += std::uint32_t(__builtin_popcount(L::le_bits(d2(c, k), limit_at(c, k))));
         return hits;
     }
 
@@ -161,7 +187,7 @@ struct point_kernel {
         // The filter's positions are cleared after the loop, which then needs no check per
         // vector.
         for (std::uint32_t k = first; k < padded; k += L::n) {
-            std::uint32_t m = L::le_bits(d2(c, k), limit);
+            std::uint32_t m = L::le_bits(d2(c, k), limit_at(c, k));
             if constexpr (ById) m &= ids_at_least(b.id.data() + k, f.lo);
             bits[k / L::n] = Word(m);
             n += std::uint32_t(__builtin_popcount(m));
@@ -203,7 +229,7 @@ struct point_kernel {
         // Vectors wholly before f.from hold no candidate of the row.
         for (std::uint32_t k = f.from / L::n * L::n; k < padded; k += L::n) {
             const vec d = d2(c, k);
-            std::uint32_t m = L::le_bits(d, limit);
+            std::uint32_t m = L::le_bits(d, limit_at(c, k));
             if (k < f.from) m &= ~0u << (f.from - k);
             if (k == skip_vector) m &= keep_at_skip;
 #if FRNN_SWEEP_BYTES == 64

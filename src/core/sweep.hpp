@@ -53,6 +53,9 @@ struct sweep_job {
     /// counts are then by query index; sweep ranges [b, e) are positions in query_order.
     const T* queries = nullptr;
     const std::uint32_t* query_order = nullptr;
+    /// Query sweeps with a radius per query point: their squares in search space, by query
+    /// index; null: the grid's radius.
+    const T* query_r2 = nullptr;
 
     /// count_keeping_masks writes and fill_from_masks reads the hit masks of [b, e) here (the
     /// distance test's bits, one per candidate), as many bytes as hit_mask_bytes gives.

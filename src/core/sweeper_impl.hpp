@@ -65,6 +65,16 @@ struct sweeper {
     std::int64_t group_width;
     /// Periodic box: grid points wrap by their runs' images, without a division.
     bool shifts = false;
+    /// A radius per grid point: their squares (search space) by sorted index; else null.
+    const T* own_r2 = nullptr;
+    /// Symmetric radius per point: a candidate's own radius counts too.
+    bool symmetric = false;
+    /// Rows of different radii (gather): each point visits only the cells within its own
+    /// radius, reach_of(limit) of them on each side. reach_factor: (1 + 2^-20) / the narrowest
+    /// cell, the margin covering the rounding of cell coordinates as the grid's reach does.
+    bool own_reach = false;
+    double reach_factor = 0;
+    std::vector<std::uint8_t> group_reach;
 
     sweeper(const grid<T, D>& gr, const sweep_job<T>& j)
         : g(gr), job(j), r2(gr.search_radius() * gr.search_radius()), group_width(group_width_for(gr)) {
@@ -72,6 +82,23 @@ struct sweeper {
             for (int a = 0; a < D; ++a) box[a] = gr.geometry().box[a];
             shifts = !job.of_queries() && grid_access::images_exact(gr);
         }
+        own_r2 = grid_access::point_r2(gr);
+        symmetric = own_r2 && gr.options().rule == radius_rule::symmetric;
+        own_reach = !symmetric && (job.of_queries() ? job.query_r2 != nullptr : own_r2 != nullptr) && gr.reach() > 1;
+        double narrowest = gr.geometry().cell[0];
+        for (int a = 1; a < D; ++a) narrowest = std::min(narrowest, gr.geometry().cell[a]);
+        reach_factor = (1 + 0x1p-20) / narrowest;
+    }
+
+    /// The squared search radius of point s (search space).
+    T limit(std::uint32_t s) const {
+        if (job.of_queries()) return job.query_r2 ? job.query_r2[job.query_order[s]] : r2;
+        return own_r2 ? own_r2[s] : r2;
+    }
+    /// Cells on each side that hold every candidate within sqrt(lim) of a point.
+    int reach_of(T lim) const {
+        const double cells = std::ceil(std::sqrt(double(lim)) * reach_factor);
+        return int(std::clamp(cells, 1.0, double(g.reach())));
     }
 
     std::array<T, D> point(std::uint32_t s) const {
@@ -114,16 +141,47 @@ struct sweeper {
         return false;
     }
 
-    /// f(kernel) with the kernel of point x, wrapping as wraps_at(group_wraps, x) says.
+    /// f(kernel) with the kernel of point s at x, wrapping as wraps_at(group_wraps, x) says.
     template <class F>
-    auto with_kernel(const std::array<T, D>& x, bool group_wraps, F&& f) const {
+    auto with_kernel(std::uint32_t s, const std::array<T, D>& x, bool group_wraps, F&& f) const {
+        const T lim = limit(s);
+        if (symmetric) return with_kernel_by<true>(x, lim, group_wraps, f);
+        return with_kernel_by<false>(x, lim, group_wraps, f);
+    }
+    template <bool ByCandidate, class F>
+    auto with_kernel_by(const std::array<T, D>& x, T lim, bool group_wraps, F&& f) const {
         if constexpr (Periodic) {
             if (wraps_at(group_wraps, x)) {
-                if (shifts) return f(point_kernel<T, D, wrap_mode::shift>(x.data(), r2, box));
-                return f(point_kernel<T, D, wrap_mode::min_image>(x.data(), r2, box));
+                if (shifts) return f(point_kernel<T, D, wrap_mode::shift, ByCandidate>(x.data(), lim, box));
+                return f(point_kernel<T, D, wrap_mode::min_image, ByCandidate>(x.data(), lim, box));
             }
         }
-        return f(point_kernel<T, D, wrap_mode::none>(x.data(), r2, box));
+        return f(point_kernel<T, D, wrap_mode::none, ByCandidate>(x.data(), lim, box));
+    }
+
+    /// Calls visit(b, e, first) for the points [gb, ge) of a group in ranges that share one
+    /// gathered block (with ids unless with_ids is false), `first` the block position of b
+    /// among grid points: the whole group, or with reaches of their own, the points of each
+    /// reach in turn (visit then skips the others: keep(s) says which).
+    template <class V>
+    void for_each_block(std::uint32_t gb, std::uint32_t ge, const std::array<std::int64_t, 3>& cell,
+                        std::int64_t width, bool with_ids, V&& visit) {
+        if (!own_reach) {
+            gather(cell, width, with_ids);
+            visit([](std::uint32_t) { return true; }, job.of_queries() ? 0 : block_position(gb));
+            return;
+        }
+        group_reach.resize(ge - gb);
+        unsigned present = 0;
+        for (std::uint32_t s = gb; s < ge; ++s) {
+            group_reach[s - gb] = std::uint8_t(reach_of(limit(s)));
+            present |= 1u << group_reach[s - gb];
+        }
+        for (int k = 1; k <= g.reach(); ++k) {
+            if (!(present >> k & 1)) continue;
+            gather(cell, width, with_ids, k);
+            visit([&, k](std::uint32_t s) { return group_reach[s - gb] == k; }, job.of_queries() ? 0 : block_position(gb));
+        }
     }
 
     /// Periodic box: whether the minimum image may differ from the plain difference for a
@@ -140,12 +198,14 @@ struct sweeper {
         return false;
     }
 
-    /// The cell's stencil into the block (without ids unless with_ids), with its shifts
-    /// where grid points wrap by them.
-    void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width, bool with_ids = true) {
-        nruns = grid_access::stencil_runs(g, cell, runs, width, Periodic ? images : nullptr);
+    /// The cell's stencil (of `reach` cells on each side; 0: the grid's) into the block
+    /// (without ids unless with_ids), with its shifts where grid points wrap by them and the
+    /// candidates' radii when they count.
+    void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width, bool with_ids = true, int reach = 0) {
+        nruns = grid_access::stencil_runs(g, cell, runs, width, Periodic ? images : nullptr, reach);
         block.gather(g, runs, nruns, job.ids, with_ids);
         if (shifts && wraps(cell)) block.gather_shifts(runs, images, nruns, box);
+        if (symmetric) block.gather_r2(g, runs, nruns);
     }
 
     /// The block position of sorted point s, which lies in one of the gathered runs.
@@ -180,21 +240,22 @@ struct sweeper {
 
     void count(std::size_t b, std::size_t e) {
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            gather(cell, width);
             const bool wrap = wraps(cell);
-            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
-            for (std::uint32_t s = gb; s < ge; ++s) {
-                const auto x = point(s);
-                std::uint32_t c = with_kernel(x, wrap, [&](const auto& kern) {
-                    if (!job.half)  // the point itself is always a candidate at distance 0
-                        return kern.count_all(block) - (job.self ? 0 : 1);
-                    const candidate_filter f = filter(s, first + (s - gb));
-                    return filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
-                                          : kern.template emit<false, true>(block, f, nullptr, nullptr);
-                });
-                if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
-                job.counts[job.of_queries() ? id(s) : s] = c;
-            }
+            for_each_block(gb, ge, cell, width, true, [&](const auto& keep, std::uint32_t first) {
+                for (std::uint32_t s = gb; s < ge; ++s) {
+                    if (!keep(s)) continue;
+                    const auto x = point(s);
+                    std::uint32_t c = with_kernel(s, x, wrap, [&](const auto& kern) {
+                        if (!job.half)  // the point itself is always a candidate at distance 0
+                            return kern.count_all(block) - (job.self ? 0 : 1);
+                        const candidate_filter f = filter(s, first + (s - gb));
+                        return filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
+                                              : kern.template emit<false, true>(block, f, nullptr, nullptr);
+                    });
+                    if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
+                    job.counts[job.of_queries() ? id(s) : s] = c;
+                }
+            });
         });
     }
 
@@ -244,37 +305,38 @@ struct sweeper {
         std::vector<std::pair<T, std::uint32_t>> pairs;
         const std::vector<std::uint64_t> starts = scattered_row_starts(b, e);
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
-            gather(cell, width);
             const bool wrap = wraps(cell);
-            if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
-            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
-            for (std::uint32_t s = gb; s < ge; ++s) {
-                const auto x = point(s);
-                const candidate_filter f = filter(s, first + (s - gb));
-                const std::uint64_t dst = row_start(starts, s, b, e);
-                std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
-                T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
-                if (need_d2 && !d2) {  // ordering by distance without returning distances
-                    grow(row_d2, block.padded);
-                    d2 = row_d2.data();
+            for_each_block(gb, ge, cell, width, true, [&](const auto& keep, std::uint32_t first) {
+                if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
+                for (std::uint32_t s = gb; s < ge; ++s) {
+                    if (!keep(s)) continue;
+                    const auto x = point(s);
+                    const candidate_filter f = filter(s, first + (s - gb));
+                    const std::uint64_t dst = row_start(starts, s, b, e);
+                    std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
+                    T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
+                    if (need_d2 && !d2) {  // ordering by distance without returning distances
+                        grow(row_d2, block.padded);
+                        d2 = row_d2.data();
+                    }
+                    std::uint32_t n = with_kernel(s, x, wrap, [&](const auto& kern) {
+                        if (filter_by_id())
+                            return d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
+                                      : kern.template emit<false, false, true>(block, f, ids, nullptr);
+                        return d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
+                    });
+                    if (job.k_nearest > 0 || job.order == row_order::distance ||
+                        (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
+                        if (d2) n = sort_row(n, ids, d2, pairs);
+                        else sort_ids(ids, n);
+                    }
+                    if (job.k_nearest > 0 && n > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
+                    if (job.distances) {
+                        T* out = job.distances + dst;
+                        for (std::uint32_t k = 0; k < n; ++k) out[k] = std::sqrt(d2[k]);
+                    }
                 }
-                std::uint32_t n = with_kernel(x, wrap, [&](const auto& kern) {
-                    if (filter_by_id())
-                        return d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
-                                  : kern.template emit<false, false, true>(block, f, ids, nullptr);
-                    return d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
-                });
-                if (job.k_nearest > 0 || job.order == row_order::distance ||
-                    (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
-                    if (d2) n = sort_row(n, ids, d2, pairs);
-                    else sort_ids(ids, n);
-                }
-                if (job.k_nearest > 0 && n > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
-                if (job.distances) {
-                    T* out = job.distances + dst;
-                    for (std::uint32_t k = 0; k < n; ++k) out[k] = std::sqrt(d2[k]);
-                }
-            }
+            });
         });
     }
 
@@ -305,7 +367,7 @@ struct sweeper {
             for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
                 const auto x = point(s);
                 const candidate_filter f = filter(s, first + (s - gb));
-                job.counts[job.of_queries() ? id(s) : s] = with_kernel(x, wrap, [&](const auto& kern) {
+                job.counts[job.of_queries() ? id(s) : s] = with_kernel(s, x, wrap, [&](const auto& kern) {
                     return by_id ? kern.template keep_hits<true>(block, f, bits) : kern.template keep_hits<false>(block, f, bits);
                 });
             }

@@ -52,6 +52,36 @@ rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> data, T 
     return rows;
 }
 
+/// Radii of their own (empty spans: the grid's one radius): the data points' (grid::build
+/// with radii) and the query points' (grid::query with radii), and the rule that pairs them.
+template <class T>
+struct radii_spec {
+    std::span<const T> data, queries;
+    radius_rule rule = radius_rule::gather;
+    bool any() const { return !data.empty() || !queries.empty(); }
+};
+
+/// Oracle rows with radii of their own: query q against the data within query_radii[q] (or
+/// max with data_radii[j], symmetric); scale of a grid of radius `grid_radius`.
+template <class T, int D>
+rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> query_radii, std::span<const T> data,
+                         std::span<const T> data_radii, radius_rule rule, T grid_radius, bool exclude_same,
+                         std::span<const double> periodic) {
+    const csr<T> lists = brute_force_lists<T, D>(queries, query_radii, data, data_radii, rule, grid_radius,
+                                                 exclude_same, periodic);
+    const distance_test<T, D> test(grid_radius, search_scale<T>(grid_radius, largest_magnitude<T>(data, periodic)),
+                                   periodic);
+    rows_t<T> rows(lists.rows());
+    for (std::size_t q = 0; q < lists.rows(); ++q) {
+        for (std::uint64_t k = lists.offsets[q]; k < lists.offsets[q + 1]; ++k) {
+            const std::uint32_t j = lists.indices[k];
+            const T key = test.scaled_distance_squared(&queries[q * D], &data[j * D]);
+            rows[q].push_back({j, lists.distances[k], test.distance_squared(key), key});
+        }
+    }
+    return rows;
+}
+
 /// Oracle rows of the data set against itself, renumbered into `space` and filtered by `half`
 /// and `self` as list_options define them.
 template <class T>
@@ -298,7 +328,7 @@ inline std::vector<list_options> all_list_options() {
 template <class T, int D>
 void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
                 std::span<const double> periodic, std::span<const T> queries,
-                depth level = depth::full) {
+                depth level = depth::full, radii_spec<T> radii = {}) {
     const std::size_t n = coords.size() / D;
     const bool full = level == depth::full;
     const std::size_t stride = full ? 1 : 5;
@@ -311,7 +341,10 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
     if (fail("structure", check_structure<T, D>(g, coords))) return;
     const auto perm = g.sorted_to_original();
     const auto inv = g.original_to_sorted();
-    const rows_t<T> ref = reference_rows<T, D>(coords, coords, radius, true, periodic);
+    const rows_t<T> ref = radii.data.empty()
+                              ? reference_rows<T, D>(coords, coords, radius, true, periodic)
+                              : reference_rows<T, D>(coords, radii.data, coords, radii.data, radii.rule, radius, true,
+                                                     periodic);
 
     // for_each_neighbor: caller's indices, squared distances.
     for (std::size_t i = 0; i < n; i += stride) {
@@ -393,16 +426,25 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
     }
 
     // for_each_neighbor_of at the data points (each finds itself) and at the queries.
-    std::vector<T> all;
-    for (std::size_t i = 0; i < n; i += stride)
+    // With radii, the data points query with their own radius (or the grid's), the queries
+    // with radii.queries.
+    std::vector<T> all, all_radii;
+    for (std::size_t i = 0; i < n; i += stride) {
         all.insert(all.end(), coords.begin() + i * D, coords.begin() + (i + 1) * D);
+        all_radii.push_back(radii.data.empty() ? radius : radii.data[i]);
+    }
     all.insert(all.end(), queries.begin(), queries.end());
-    const rows_t<T> qref = reference_rows<T, D>(all, coords, radius, false, periodic);
+    for (std::size_t q = 0; q < queries.size() / D; ++q) all_radii.push_back(radii.queries.empty() ? radius : radii.queries[q]);
+    if (!radii.any()) all_radii.clear();
+    const rows_t<T> qref = all_radii.empty() ? reference_rows<T, D>(all, coords, radius, false, periodic)
+                                             : reference_rows<T, D>(all, all_radii, coords, radii.data, radii.rule,
+                                                                    radius, false, periodic);
     for (std::size_t q = 0; q < qref.size(); ++q) {
         typename grid<T, D>::point x;
         for (int a = 0; a < D; ++a) x[a] = all[q * D + a];
         std::vector<std::pair<std::uint32_t, T>> got;
-        g.for_each_neighbor_of(x, [&](std::uint32_t j, T d2) { got.emplace_back(j, d2); });
+        if (all_radii.empty()) g.for_each_neighbor_of(x, [&](std::uint32_t j, T d2) { got.emplace_back(j, d2); });
+        else g.for_each_neighbor_of(x, all_radii[q], [&](std::uint32_t j, T d2) { got.emplace_back(j, d2); });
         if (fail("for_each_neighbor_of", compare_callback<T>(got, qref[q], "query " + std::to_string(q))))
             break;
     }
@@ -411,7 +453,7 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
     const std::size_t nq = all.size() / D;
     std::span<const T> qs(all);
     {
-        const auto c = g.query_counts(qs);
+        const auto c = all_radii.empty() ? g.query_counts(qs) : g.query_counts(qs, all_radii);
         std::string msg = c.size() == nq ? "" : "wrong length";
         for (std::size_t q = 0; msg.empty() && q < nq; ++q)
             if (c[q] != qref[q].size())
@@ -432,7 +474,8 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
                 o.space = space;
                 o.order = order;
                 o.distances = dist;
-                fail("query(" + describe(o) + ")", compare_csr<T>(g.query(qs, o), want, dist, order));
+                fail("query(" + describe(o) + ")",
+                     compare_csr<T>(all_radii.empty() ? g.query(qs, o) : g.query(qs, all_radii, o), want, dist, order));
             }
         }
         for (std::size_t k : {std::size_t(1), std::size_t(5)}) {
@@ -441,7 +484,8 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
             o.space = space;
             o.distances = true;
             fail("query_nearest(" + std::to_string(k) + ", " + describe(o) + ")",
-                 compare_csr<T>(g.query_nearest(qs, k, o), want, true, row_order::distance, k));
+                 compare_csr<T>(all_radii.empty() ? g.query_nearest(qs, k, o) : g.query_nearest(qs, all_radii, k, o),
+                                want, true, row_order::distance, k));
         }
     }
 }
