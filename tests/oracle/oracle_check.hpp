@@ -35,12 +35,10 @@ struct entry {
 template <class T>
 using rows_t = std::vector<std::vector<entry<T>>>;
 
-/// Oracle rows for `queries` against `data`, each sorted by neighbor index.
+/// The oracle's lists as rows of entries (with the squared distances of `test`).
 template <class T, int D>
-rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> data, T radius,
-                         bool exclude_same, std::span<const double> periodic) {
-    const csr<T> lists = brute_force_lists<T, D>(queries, data, radius, exclude_same, periodic);
-    const distance_test<T, D> test(radius, search_scale<T>(radius, largest_magnitude<T>(data, periodic)), periodic);
+rows_t<T> rows_of(const csr<T>& lists, std::span<const T> queries, std::span<const T> data,
+                  const distance_test<T, D>& test) {
     rows_t<T> rows(lists.rows());
     for (std::size_t q = 0; q < lists.rows(); ++q) {
         for (std::uint64_t k = lists.offsets[q]; k < lists.offsets[q + 1]; ++k) {
@@ -50,6 +48,15 @@ rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> data, T 
         }
     }
     return rows;
+}
+
+/// Oracle rows for `queries` against `data`, each sorted by neighbor index.
+template <class T, int D>
+rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> data, T radius,
+                         bool exclude_same, std::span<const double> periodic) {
+    const csr<T> lists = brute_force_lists<T, D>(queries, data, radius, exclude_same, periodic);
+    const distance_test<T, D> test(radius, search_scale<T>(radius, largest_magnitude<T>(data, periodic)), periodic);
+    return rows_of<T, D>(lists, queries, data, test);
 }
 
 /// Radii of their own (empty spans: the grid's one radius): the data points' (grid::build
@@ -71,15 +78,7 @@ rows_t<T> reference_rows(std::span<const T> queries, std::span<const T> query_ra
                                                  exclude_same, periodic);
     const distance_test<T, D> test(grid_radius, search_scale<T>(grid_radius, largest_magnitude<T>(data, periodic)),
                                    periodic);
-    rows_t<T> rows(lists.rows());
-    for (std::size_t q = 0; q < lists.rows(); ++q) {
-        for (std::uint64_t k = lists.offsets[q]; k < lists.offsets[q + 1]; ++k) {
-            const std::uint32_t j = lists.indices[k];
-            const T key = test.scaled_distance_squared(&queries[q * D], &data[j * D]);
-            rows[q].push_back({j, lists.distances[k], test.distance_squared(key), key});
-        }
-    }
-    return rows;
+    return rows_of<T, D>(lists, queries, data, test);
 }
 
 /// Oracle rows of the data set against itself, renumbered into `space` and filtered by `half`
