@@ -1,6 +1,7 @@
 #include "frnn/bench/runner.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -40,6 +41,12 @@ public:
     }
 
     void run() {
+        if (info_.workload == "W7") {
+            for (int t : cfg_.threads) run_radii(t);
+            for (auto& text : disagreements(rep_.rows, info_.workload, info_.n)) void_note(text);
+            rep_.cases.push_back(std::move(info_));
+            return;
+        }
         for (int t : cfg_.threads) run_frnn(t);
         if (md_) {
             info_.notes.push_back("periodic cube of side " + std::to_string(box_) + ", double coordinates; pairs of half lists are counted twice, like the others");
@@ -148,6 +155,44 @@ private:
                 g.rebuild(moved);
                 return sample{sw.stop(), {}};
             }, load_));
+    }
+
+    // W7: the points with a radius per point, uniform in [lo, 2] for lo = 0.5 and 0.2, under
+    // each rule, beside the fixed-radius search at 2 (the largest) and at the mean radius.
+    void run_radii(int threads) {
+        grid_options go;
+        go.kind = cfg_.kind;
+        go.threads = threads;
+        go.cell_size = cfg_.cell_factor * double(radius_);
+        list_options lo;
+        lo.space = cfg_.space;
+        const auto counts = [&](const grid<T, D>& g) { return g.count_neighbors(lo.space); };
+        const auto lists = [&](const grid<T, D>& g) { return g.neighbor_lists(lo); };
+        auto fixed = [&](double r) {
+            step("frnn at r = " + short_number(r), threads);
+            run_method(threads, "frnn r=" + short_number(r), [&] { return grid<T, D>(points(), T(r), go); }, counts, lists);
+        };
+        fixed(double(radius_));
+        for (double low : {0.5, 0.2}) {
+            fixed((low + double(radius_)) / 2);
+            const std::vector<T> radii = point_radii<T>(n(), low, double(radius_), workload_seed + 1);
+            for (auto rule : {radius_rule::gather, radius_rule::symmetric}) {
+                grid_options per_point = go;
+                per_point.rule = rule;
+                const std::string method = "frnn " + std::string(to_string(rule)) + " " + short_number(low) + "-" +
+                                           short_number(double(radius_));
+                step(method, threads);
+                run_method(threads, method, [&] { return grid<T, D>(points(), radii, per_point); }, counts, lists);
+            }
+        }
+        info_.notes.push_back("W7: radii uniform in [0.5, 2] and [0.2, 2] (std::mt19937_64 seeded 43); 'frnn r=R' is the "
+                              "fixed-radius search of the same points, at 2 and at the mean radius");
+    }
+
+    static std::string short_number(double v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", v);
+        return buf;
     }
 
     // The md phases: half lists in the caller's numbering (rows unsorted, then sorted by index,

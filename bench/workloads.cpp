@@ -62,6 +62,7 @@ const std::vector<workload>& all_workloads() {
         {"W3", "clustered", 3, 1.0, {1000000}, false},
         {"W4", "plane", 2, 2.0, {1000000}, true},
         {"W5", "outlier", 3, 2.0, {1000000}, true},  // 100^3 + 1 points
+        {"W7", "radii", 3, 2.0, {1000000}, false},   // W2's points, radii per point up to 2
         {"W8", "md", 3, 2.8, {32000, 864000}, true, true},  // 4 * 20^3 and 4 * 60^3 atoms
     };
     return list;
@@ -71,7 +72,7 @@ const workload& find_workload(std::string_view id) {
     const std::string want = upper(trim(id));
     for (const auto& w : all_workloads())
         if (w.id == want) return w;
-    throw error("unknown workload '" + std::string(id) + "': expected W1, W2, W3, W4, W5, W8 or all");
+    throw error("unknown workload '" + std::string(id) + "': expected W1, W2, W3, W4, W5, W7, W8 or all");
 }
 
 std::vector<std::string> parse_workload_list(std::string_view text) {
@@ -153,7 +154,7 @@ std::vector<T> generate(const workload& w, std::size_t n) {
         if (w.id == "W5") out.insert(out.end(), {T(1e7), T(1e7), T(1e7)});
         return out;
     }
-    if (w.id == "W2") return uniform_cube<T>(n_points, w.dim, workload_seed);
+    if (w.id == "W2" || w.id == "W7") return uniform_cube<T>(n_points, w.dim, workload_seed);
     if (w.id != "W3") throw error("workload " + w.id + " has no generator");
     // 64 Gaussian blobs (sigma 2), centres uniform in [0, 1000)^3, drawn first; point i
     // belongs to blob i mod 64, so the input order is scattered across the blobs.
@@ -206,6 +207,16 @@ std::vector<T> moved_copy(std::span<const T> coords) {
     return out;
 }
 
+template <class T>
+std::vector<T> point_radii(std::size_t count, double lo, double hi, unsigned long long seed) {
+    draw rng(seed);
+    std::vector<T> out(count);
+    for (T& r : out) r = T(rng.uniform(lo, hi));
+    return out;
+}
+
+template std::vector<float> point_radii<float>(std::size_t, double, double, unsigned long long);
+template std::vector<double> point_radii<double>(std::size_t, double, double, unsigned long long);
 template std::vector<float> generate<float>(const workload&, std::size_t);
 template std::vector<double> generate<double>(const workload&, std::size_t);
 template std::vector<float> jittered_lattice<float>(std::size_t, int, unsigned long long);

@@ -101,7 +101,7 @@ const register_command reg{"bench", [](CLI::App& app) {
     auto args = std::make_shared<bench_args>();
     auto* sub = app.add_subcommand(
         "bench", "Measure build and queries on the workloads of BENCHMARKS.md, with baselines");
-    sub->add_option("--workload", args->workloads, "W1..W5, W8, all, or a comma list (W1,W2)")
+    sub->add_option("--workload", args->workloads, "W1..W5, W7, W8, all, or a comma list (W1,W2)")
         ->capture_default_str();
     sub->add_option("--n", args->sizes,
                     "point counts replacing the workloads' defaults, a comma list of N (every "

@@ -66,6 +66,20 @@ io::point_set generate_points(const std::string& spec, int dim, std::uint64_t se
     return points;
 }
 
+void parse_radius(query_args& a) {
+    const std::string& text = a.radius_text;
+    double v = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (!text.empty() && r.ec == std::errc() && r.ptr == text.data() + text.size()) {
+        if (!(v > 0) || !std::isfinite(v)) throw CLI::ValidationError("--radius", "must be a finite number > 0, got " + text);
+        a.radius = v;
+        return;
+    }
+    if (lower_extension(text) != ".npy")
+        throw CLI::ValidationError("--radius", "'" + text + "' is neither a number nor a .npy file of one radius per point");
+    a.radius_file = text;
+}
+
 void check_usage(const query_args& a) {
     if (a.input.empty() == a.generate.empty())
         throw CLI::ValidationError("INPUT", "give exactly one of an INPUT file or --generate");
@@ -83,6 +97,14 @@ void check_usage(const query_args& a) {
         throw CLI::ValidationError("--cell-size", "must lie between radius/4 and the radius");
     if (a.self && !a.queries.empty())
         throw CLI::ValidationError("--self", "does not apply with --queries (query points are not data points)");
+    if (!a.radius_file.empty() && !a.queries.empty())
+        throw CLI::ValidationError("--queries", "not with a radius per point (--radius FILE): query points would need "
+                                               "radii of their own (the C++ and Python APIs take them)");
+    if (!a.radius_file.empty() && a.backend == "vulkan")
+        throw CLI::ValidationError("--backend", "the Vulkan backend takes one radius; a radius per point (--radius FILE) "
+                                               "runs on the CPU");
+    if (!a.radius_file.empty() && a.cell_size != 0)
+        throw CLI::ValidationError("--cell-size", "not with a radius per point: cells are sized from the radii");
 }
 
 namespace {
@@ -143,7 +165,11 @@ void print_report(const query_args& a, const query_report& r) {
             j["queries"] = a.queries;
             j["query_points"] = r.query_points;
         }
-        j["radius"] = a.radius;
+        j["radius"] = a.radius;  // the largest, with a radius per point
+        if (!a.radius_file.empty()) {
+            j["radius_file"] = a.radius_file;
+            j["rule"] = a.rule;
+        }
         j["knn"] = a.knn;
         j["self"] = a.self;
         j["pairs"] = r.pairs;
@@ -161,8 +187,9 @@ void print_report(const query_args& a, const query_report& r) {
     }
     std::printf("points     %zu (%dD, %s) from %s\n", r.points, r.dimension, r.precision.c_str(), input.c_str());
     if (!a.queries.empty()) std::printf("queries    %zu from %s\n", r.query_points, a.queries.c_str());
-    std::printf("radius     %g%s%s\n", a.radius, a.knn ? (", at most " + std::to_string(a.knn) + " nearest").c_str() : "",
-                a.self ? ", self pairs included" : "");
+    const std::string per_point = a.radius_file.empty() ? "" : " (the largest of " + a.radius_file + ", rule " + a.rule + ")";
+    std::printf("radius     %g%s%s%s\n", a.radius, per_point.c_str(),
+                a.knn ? (", at most " + std::to_string(a.knn) + " nearest").c_str() : "", a.self ? ", self pairs included" : "");
     std::printf("pairs      %llu%s\n", static_cast<unsigned long long>(r.pairs),
                 a.queries.empty() && a.knn == 0 ? " (i < j)" : "");
     std::printf("neighbors  mean %.2f, max %zu per %s point\n", r.mean_neighbors, r.max_neighbors,
@@ -181,8 +208,10 @@ void print_report(const query_args& a, const query_report& r) {
 // Writes the output file and fills the pair statistics of the report.
 template <class T>
 void finish_lists(const query_args& a, const csr<T>& lists, query_report& r, stopwatch& clock) {
-    // Without --queries or --knn the lists are symmetric: files keep each pair once (i <= j).
-    const io::pair_filter filter = a.queries.empty() && a.knn == 0 ? io::pair_filter::upper : io::pair_filter::all;
+    // Without --queries or --knn (or gather radii per point) the lists are symmetric: files
+    // keep each pair once (i <= j).
+    const bool mutual = a.queries.empty() && a.knn == 0 && (a.radius_file.empty() || a.rule == "symmetric");
+    const io::pair_filter filter = mutual ? io::pair_filter::upper : io::pair_filter::all;
     if (!a.output.empty()) io::write_neighbors(a.output, lists, filter);
     r.write_ms = clock.lap_ms();
     r.pairs = io::count_pairs(lists, filter);
@@ -238,9 +267,16 @@ void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& qu
 #endif
 }
 
-void run_query(const query_args& a) {
+void run_query(query_args a) {
+    parse_radius(a);
     if (launched_by_mpirun()) return run_query_mpi(a);
     check_usage(a);
+    std::vector<double> radii;
+    if (!a.radius_file.empty()) {
+        radii = io::read_npy_values(a.radius_file);
+        a.radius = 0;
+        for (double v : radii) a.radius = std::isfinite(v) ? std::max(a.radius, v) : a.radius;
+    }
     const std::vector<double> periodic = a.periodic.empty() ? std::vector<double>{} : parse_periodic(a.periodic);
     query_report r;
     stopwatch clock;
@@ -270,7 +306,21 @@ void run_query(const query_args& a) {
         options.cell_size = a.cell_size;
         options.periodic = periodic;
         options.threads = a.threads;
-        const grid<T, D> g(xyz, T(a.radius), options);
+        options.rule = parse_radius_rule(a.rule);
+        grid<T, D> g;
+        if (radii.empty()) {
+            g.build(xyz, T(a.radius), options);
+        } else {
+            if (radii.size() != xyz.size() / D)
+                throw error(a.radius_file + ": " + std::to_string(radii.size()) + " radii for " +
+                            std::to_string(xyz.size() / D) + " points");
+            const std::vector<T> typed(radii.begin(), radii.end());
+            try {
+                g.build(xyz, std::span<const T>(typed), options);
+            } catch (const error& e) {
+                throw error(a.radius_file + ": " + e.what());
+            }
+        }
         r.build_ms = clock.lap_ms();
 
         list_options lists_options;
@@ -305,9 +355,13 @@ const register_command query_command{"query", [](CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "query", "Find all neighbor pairs within a radius in a point file (.npy, .csv/.txt/.xyz, .ply)");
     cmd->add_option("INPUT", args->input, "Point file: .npy (float32/float64, (N,2) or (N,3)), .csv/.txt/.xyz, .ply");
-    cmd->add_option("--radius,-r", args->radius, "Search radius: pairs with distance <= R")
-        ->required()
-        ->check(positive_number);
+    cmd->add_option("--radius,-r", args->radius_text,
+                    "Search radius: pairs with distance <= R; or a .npy of one radius per point (N,) "
+                    "(pairs by --rule)")
+        ->required();
+    cmd->add_option("--rule", args->rule,
+                    "With a radius per point: gather (j within r_i of i) or symmetric (within max(r_i, r_j))")
+        ->check(CLI::IsMember({"gather", "symmetric"}));
     cmd->add_option("--output,-o", args->output,
                     "Output file: .npy (int64 pairs (M,2)), .csv (i,j,distance) or .npz (CSR lists)");
     cmd->add_option("--queries", args->queries, "Query points (same formats): pairs are (query index, data index)");

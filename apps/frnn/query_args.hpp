@@ -14,6 +14,8 @@ namespace frnn::app {
 
 struct query_args {
     std::string input, output, queries, generate, grid = "auto", periodic;
+    /// --radius as given: a number (radius), or a .npy of one radius per point (radius_file).
+    std::string radius_text, radius_file, rule = "gather";
     double radius = 0, cell_size = 0;
     std::size_t knn = 0;
     int threads = 0, dim = 3;
@@ -35,6 +37,9 @@ inline std::string lower_extension(const std::string& file) {
 std::vector<double> parse_periodic(const std::string& text);
 /// The points of --generate (lattice:N or uniform:N), as `frnn bench` draws its workloads.
 io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed);
+/// --radius: a positive number into a.radius, or a .npy file into a.radius_file;
+/// CLI::ValidationError otherwise.
+void parse_radius(query_args& a);
 /// Options that do not go together, unknown extensions: CLI::ValidationError (exit 2).
 void check_usage(const query_args& a);
 /// One box length per dimension, each at least 2 * radius: CLI::ValidationError otherwise.

@@ -15,17 +15,20 @@ _CSR = Tuple[npt.NDArray[np.int64], npt.NDArray[np.uint32]]
 _CSRDist = Tuple[npt.NDArray[np.int64], npt.NDArray[np.uint32], npt.NDArray[_Real]]
 
 class Grid:
-    """Fixed-radius neighbor search over one point set: |x_i - x_j| <= radius, i != j."""
+    """Fixed-radius neighbor search over one point set: |x_i - x_j| <= radius, i != j (or a
+    radius per point: <= radius[i] under rule "gather", <= max(radius[i], radius[j]) under
+    "symmetric")."""
 
     def __init__(
         self,
         points: npt.ArrayLike,
-        radius: float,
+        radius: Union[float, npt.ArrayLike],
         *,
         grid: Literal["auto", "uniform", "hash"] = "auto",
         cell_size: Optional[float] = None,
         periodic: Union[None, float, Sequence[Optional[float]]] = None,
         threads: Optional[int] = None,
+        rule: Literal["gather", "symmetric"] = "gather",
     ) -> None: ...
     def query_pairs(self) -> npt.NDArray[np.int64]:
         """(M, 2) int64 pairs i < j within radius, sorted lexicographically."""
@@ -43,7 +46,7 @@ class Grid:
     def query_ball_point(
         self,
         x: npt.ArrayLike,
-        r: Optional[float] = ...,
+        r: Union[None, float, npt.ArrayLike] = ...,
         *,
         return_distances: Literal[False] = ...,
         sort: _Sort = ...,
@@ -53,7 +56,7 @@ class Grid:
     def query_ball_point(
         self,
         x: npt.ArrayLike,
-        r: Optional[float] = ...,
+        r: Union[None, float, npt.ArrayLike] = ...,
         *,
         return_distances: Literal[True],
         sort: _Sort = ...,
@@ -63,7 +66,7 @@ class Grid:
     def query_ball_point(
         self,
         x: npt.ArrayLike,
-        r: Optional[float] = ...,
+        r: Union[None, float, npt.ArrayLike] = ...,
         *,
         return_distances: bool = ...,
         sort: _Sort = ...,
@@ -91,6 +94,10 @@ class Grid:
     @property
     def radius(self) -> float: ...
     @property
+    def radii(self) -> Optional[npt.NDArray[_Real]]: ...
+    @property
+    def rule(self) -> Optional[Literal["gather", "symmetric"]]: ...
+    @property
     def dim(self) -> Literal[2, 3]: ...
     @property
     def dtype(self) -> np.dtype: ...
@@ -112,11 +119,12 @@ class Grid:
 
 def query_pairs(
     points: npt.ArrayLike,
-    radius: float,
+    radius: Union[float, npt.ArrayLike],
     *,
     grid: Literal["auto", "uniform", "hash"] = "auto",
     cell_size: Optional[float] = None,
     periodic: Union[None, float, Sequence[Optional[float]]] = None,
     threads: Optional[int] = None,
+    rule: Literal["gather", "symmetric"] = "symmetric",
 ) -> npt.NDArray[np.int64]:
     """All pairs i < j within radius: Grid(points, radius, **kw).query_pairs()."""

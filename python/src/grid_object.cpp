@@ -40,6 +40,22 @@ row_order parse_sort(const py::object& sort) {
 }
 
 /// None, one box length for every axis, or one length per axis.
+/// A radius argument: nothing for one number, else its values, one per point (`count`).
+std::optional<std::vector<double>> radii_of(const py::object& radius, std::size_t count, const char* what) {
+    if (py::isinstance<py::float_>(radius) || py::isinstance<py::int_>(radius)) return std::nullopt;
+    const py::array a = as_array(radius);
+    const char kind = a.dtype().kind();
+    if (!(kind == 'f' || kind == 'i' || kind == 'u'))
+        throw py::value_error(std::string(what) + " must be a number or an array of numbers; got " +
+                              std::string(py::repr(radius)));
+    if (a.ndim() == 0) return std::nullopt;
+    if (a.ndim() != 1 || std::size_t(a.shape(0)) != count)
+        throw py::value_error(std::string(what) + " must be one number or " + std::to_string(count) +
+                              " (one per point); got an array of shape " + std::string(py::str(py::tuple(a.attr("shape")))));
+    const auto v = as_contiguous<double>(a);
+    return std::vector<double>(v.data(), v.data() + count);
+}
+
 std::vector<double> parse_periodic(const py::object& periodic, int dim) {
     if (periodic.is_none()) return {};
     if ((py::isinstance<py::tuple>(periodic) || py::isinstance<py::list>(periodic)) && py::len(periodic) == std::size_t(dim)) {
@@ -65,6 +81,7 @@ grid_options make_options(const grid_args& args, int dim) {
     o.kind = parse_grid_kind(args.grid);
     o.cell_size = args.cell_size.value_or(0.0);
     o.periodic = parse_periodic(args.periodic, dim);
+    o.rule = parse_radius_rule(args.rule);
     // The upper bound only stops typos from asking for a million threads.
     if (args.threads && (*args.threads < 1 || *args.threads > 1024))
         throw py::value_error("threads must be in [1, 1024] (None: FRNN_NUM_THREADS, else OMP_NUM_THREADS, else every CPU); got " +
@@ -117,20 +134,27 @@ auto grid_object::under_read_lock(F&& f) const {
     return f();
 }
 
-void grid_object::build_into(any_grid& target, py::handle points, double radius,
+void grid_object::build_into(any_grid& target, py::handle points, const py::object& radius,
                              const grid_options& options) {
     const py::array a = check_points_shape(as_array(points), "points", 0, false);
+    const auto per_point = radii_of(radius, std::size_t(a.shape(0)), "radius");
     dispatch(is_float32_input(a, "points"), int(a.shape(1)), [&](auto tag) {
         using T = typename decltype(tag)::type;
         constexpr int D = decltype(tag)::dim;
         const auto c = as_contiguous<T>(a);
         auto& g = target.template emplace<grid<T, D>>();
+        if (!per_point) {
+            const T r = T(radius.cast<double>());
+            py::gil_scoped_release nogil;
+            return g.build(coords_of(c), r, options);
+        }
+        const std::vector<T> radii(per_point->begin(), per_point->end());
         py::gil_scoped_release nogil;
-        g.build(coords_of(c), T(radius), options);
+        g.build(coords_of(c), std::span<const T>(radii), options);
     });
 }
 
-grid_object::grid_object(const py::object& points, double radius, const grid_args& args) {
+grid_object::grid_object(const py::object& points, const py::object& radius, const grid_args& args) {
     const py::array a = check_points_shape(as_array(points), "points", 0, false);
     options_ = make_options(args, int(a.shape(1)));
     build_into(g_, a, radius, options_);
@@ -161,6 +185,9 @@ static buffer<std::int64_t> sorted_pairs(const grid<T, D>& g) {
 py::array grid_object::query_pairs() const {
     return std::visit(
         [&](auto& g) {
+            if (g.has_point_radii() && g.options().rule == radius_rule::gather)
+                throw error("query_pairs: gather neighbors are not mutual (j within r_i of i, not i within r_j of j); "
+                            "build with rule='symmetric' for pairs, or use neighbors()");
             auto pairs = under_read_lock([&] { return sorted_pairs(g); });
             const auto m = py::ssize_t(pairs.size() / 2);
             return to_numpy(std::move(pairs), {m, 2});
@@ -186,7 +213,7 @@ py::array grid_object::count_neighbors() const {
         [&](auto& g) { return to_numpy(under_read_lock([&] { return widen(g.count_neighbors()); })); }, g_);
 }
 
-py::object grid_object::query_ball_point(const py::object& x, std::optional<double> r,
+py::object grid_object::query_ball_point(const py::object& x, const py::object& r_arg,
                                          bool return_distances, const py::object& sort,
                                          bool return_length) const {
     const row_order order = parse_sort(sort);
@@ -195,6 +222,32 @@ py::object grid_object::query_ball_point(const py::object& x, std::optional<doub
             using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
             constexpr int D = grid_traits<std::decay_t<decltype(g)>>::dim;
             const auto q = typed_points<T, D>(x, "x", true);
+            const std::size_t nq = std::size_t(q.size()) / D;
+            const auto per_query = r_arg.is_none() ? std::nullopt : radii_of(r_arg, nq, "r");
+            std::optional<double> r;
+            if (!r_arg.is_none() && !per_query) r = r_arg.cast<double>();
+            if (per_query || (r && g.has_point_radii())) {
+                // Radii of the queries' own (cKDTree's r array): the grid's own search when none
+                // exceeds its radius, else a grid of one radius, the largest, over the same points.
+                std::vector<T> radii(nq, r ? T(*r) : T(0));
+                if (per_query) std::transform(per_query->begin(), per_query->end(), radii.begin(), [](double v) { return T(v); });
+                T largest = 0;
+                for (T v : radii) largest = std::isfinite(v) ? std::max(largest, v) : largest;
+                if (!g.has_point_radii() && largest > g.radius()) {
+                    grid_object other;
+                    other.options_ = options_;
+                    other.options_.cell_size = 0;
+                    build_into(other.g_, original_points(), py::float_(double(largest)), other.options_);
+                    return other.query_ball_point(q, to_numpy(std::move(radii)), return_distances, sort, return_length);
+                }
+                if (return_length)
+                    return to_numpy(under_read_lock([&] { return widen(g.query_counts(coords_of(q), radii)); }));
+                list_options o;
+                o.distances = return_distances;
+                o.order = order;
+                auto c = under_read_lock([&] { return g.query(coords_of(q), radii, o); });
+                return csr_to_numpy(std::move(c), return_distances);
+            }
             if (r && T(*r) != g.radius()) {
                 // Another radius needs another grid: build one over the same points.
                 grid_object other;
@@ -202,9 +255,8 @@ py::object grid_object::query_ball_point(const py::object& x, std::optional<doub
                 if (options_.cell_size != 0 &&
                     (options_.cell_size > *r || options_.cell_size < *r / 4))
                     other.options_.cell_size = 0;
-                build_into(other.g_, original_points(), *r, other.options_);
-                return other.query_ball_point(q, std::nullopt, return_distances, sort,
-                                              return_length);
+                build_into(other.g_, original_points(), py::float_(*r), other.options_);
+                return other.query_ball_point(q, py::none(), return_distances, sort, return_length);
             }
             if (return_length)
                 return to_numpy(under_read_lock([&] { return widen(g.query_counts(coords_of(q))); }));
@@ -311,6 +363,26 @@ std::size_t grid_object::size() const {
 double grid_object::radius() const {
     std::shared_lock lock(mutex_);
     return std::visit([](auto& g) { return double(g.radius()); }, g_);
+}
+py::object grid_object::radii() const {
+    std::shared_lock lock(mutex_);
+    return std::visit(
+        [](auto& g) -> py::object {
+            if (!g.has_point_radii()) return py::none();
+            using T = typename grid_traits<std::decay_t<decltype(g)>>::type;
+            std::vector<T> r(g.point_radii().begin(), g.point_radii().end());
+            return to_numpy(std::move(r));
+        },
+        g_);
+}
+py::object grid_object::rule() const {
+    std::shared_lock lock(mutex_);
+    return std::visit(
+        [](auto& g) -> py::object {
+            if (!g.has_point_radii()) return py::none();
+            return py::str(std::string(to_string(g.options().rule)));
+        },
+        g_);
 }
 int grid_object::dim() const {
     return std::visit([](auto& g) { return grid_traits<std::decay_t<decltype(g)>>::dim; }, g_);

@@ -37,16 +37,18 @@ struct grid_args {
     std::optional<double> cell_size;
     py::object periodic = py::none();
     std::optional<int> threads;
+    std::string rule = "gather";  ///< with a radius per point
 };
 
 class grid_object {
 public:
-    grid_object(const py::object& points, double radius, const grid_args& args);
+    /// `radius`: one value, or an array of one per point (a radius per point).
+    grid_object(const py::object& points, const py::object& radius, const grid_args& args);
 
     py::array query_pairs() const;
     py::tuple neighbors(bool return_distances, const py::object& sort, bool half) const;
     py::array count_neighbors() const;
-    py::object query_ball_point(const py::object& x, std::optional<double> r, bool return_distances,
+    py::object query_ball_point(const py::object& x, const py::object& r, bool return_distances,
                                 const py::object& sort, bool return_length) const;
     py::tuple query_knn(std::int64_t k, const py::object& x) const;
     void update(const py::object& points);
@@ -60,6 +62,8 @@ public:
 
     std::size_t size() const;
     double radius() const;
+    py::object radii() const;
+    py::object rule() const;
     int dim() const;
     py::dtype dtype() const;
     std::string kind() const;
@@ -76,8 +80,9 @@ private:
 
     grid_object() = default;
     bool is_float32() const { return g_.index() < 2; }
-    /// Builds `target` over `points` (any accepted array) with these radius and options.
-    static void build_into(any_grid& target, py::handle points, double radius,
+    /// Builds `target` over `points` (any accepted array) with these radius (one value or one
+    /// per point) and options.
+    static void build_into(any_grid& target, py::handle points, const py::object& radius,
                            const grid_options& options);
     /// The grid's points in the caller's order (exact copies of the stored coordinates).
     py::array original_points() const;

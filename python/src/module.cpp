@@ -16,10 +16,12 @@ namespace {
 
 constexpr const char* grid_doc = R"(Fixed-radius neighbor search over one point set.
 
-Grid(points, radius, *, grid="auto", cell_size=None, periodic=None, threads=None)
+Grid(points, radius, *, grid="auto", cell_size=None, periodic=None, threads=None, rule="gather")
 
 Two points i != j are neighbors when |x_i - x_j| <= radius (the real radius, not its square),
-with minimum-image distances when ``periodic`` is given.
+with minimum-image distances when ``periodic`` is given. With a radius per point, j is a
+neighbor of i when |x_i - x_j| <= radius[i] (rule "gather") or <= max(radius[i], radius[j])
+(rule "symmetric").
 
 Parameters
 ----------
@@ -29,8 +31,9 @@ points : array_like, shape (N, 2) or (N, 3)
     converted to float64. bool, complex, object and string arrays raise TypeError. NaN or
     infinite coordinates raise ValueError. The grid keeps its own sorted copy of the points,
     so the array may be changed or freed afterwards.
-radius : float
-    Search radius, > 0.
+radius : float or array_like, shape (N,)
+    Search radius, > 0, or one per point (finite, > 0; a bad one raises ValueError naming its
+    index). With radii, ``radius`` reads the largest and ``radii`` gives them all.
 grid : {"auto", "uniform", "hash"}
     Dense cells over the bounding box, or a hash table of cells (unbounded domains, far
     outliers); "auto" picks by the cell count.
@@ -63,7 +66,9 @@ Returns
 -------
 pairs : ndarray of int64, shape (M, 2)
     Every pair (i, j) with i < j and |x_i - x_j| <= radius, sorted lexicographically: the
-    content of ``cKDTree(points).query_pairs(r, output_type='ndarray')`` after sorting.
+    content of ``cKDTree(points).query_pairs(r, output_type='ndarray')`` after sorting. With
+    a radius per point, the pairs within max(radius[i], radius[j]) (rule "symmetric"; a
+    "gather" grid raises ValueError: its neighbors are not mutual).
 )";
 
 constexpr const char* neighbors_doc = R"(Neighbor lists of every point, as CSR arrays.
@@ -101,10 +106,13 @@ Parameters
 ----------
 x : array_like, shape (M, dim) or (dim,)
     Query points, converted to the grid's precision. A single point gives one row.
-r : float, optional
+r : float or array_like of shape (M,), optional
     Radius; default the grid's. Another radius builds a temporary grid over the same points
     with that radius (O(N) extra work per call): build a Grid with that radius to query it
-    often.
+    often. An array gives each query point its own radius, as cKDTree's does: row q holds the
+    points within r[q] (the grid's own search when no r[q] exceeds its radius). A grid with a
+    radius per point needs r (one value for every query, or an array); under the symmetric
+    rule row q holds the points j within max(r[q], radius[j]).
 return_distances : bool
     Also return distances.
 sort : {"index", "distance", None}
@@ -175,7 +183,7 @@ constexpr const char* restore_doc = R"(The inverse of reorder(): an array in cel
 constexpr const char* one_shot_doc = R"(All pairs within radius: Grid(points, radius, **kw).query_pairs().
 
 Returns an (M, 2) int64 array of pairs i < j, sorted lexicographically. Keyword arguments are
-those of Grid.
+those of Grid; with a radius per point the rule is "symmetric" (pairs within the larger radius).
 )";
 
 }  // namespace
@@ -186,15 +194,15 @@ PYBIND11_MODULE(_frnn, m) {
     py::register_exception<frnn::error>(m, "Error", PyExc_ValueError);
 
     py::class_<grid_object>(m, "Grid", grid_doc)
-        .def(py::init([](const py::object& points, double radius, std::string grid,
+        .def(py::init([](const py::object& points, const py::object& radius, std::string grid,
                          std::optional<double> cell_size, py::object periodic,
-                         std::optional<int> threads) {
+                         std::optional<int> threads, std::string rule) {
                  return new grid_object(points, radius,
-                                        grid_args{std::move(grid), cell_size, periodic, threads});
+                                        grid_args{std::move(grid), cell_size, periodic, threads, std::move(rule)});
              }),
              py::arg("points"), py::arg("radius"), py::kw_only(), py::arg("grid") = "auto",
              py::arg("cell_size") = py::none(), py::arg("periodic") = py::none(),
-             py::arg("threads") = py::none())
+             py::arg("threads") = py::none(), py::arg("rule") = "gather")
         .def("query_pairs", &grid_object::query_pairs, query_pairs_doc)
         .def("neighbors", &grid_object::neighbors, neighbors_doc,
              py::arg("return_distances") = false, py::arg("sort") = "index",
@@ -215,7 +223,10 @@ PYBIND11_MODULE(_frnn, m) {
                                "int64 array: permutation[s] is the caller's index of the s-th "
                                "point in cell order")
         .def_property_readonly("n", &grid_object::size, "Number of points")
-        .def_property_readonly("radius", &grid_object::radius, "Search radius")
+        .def_property_readonly("radius", &grid_object::radius, "Search radius (the largest, with a radius per point)")
+        .def_property_readonly("radii", &grid_object::radii, "The radius of each point (caller's order), or None")
+        .def_property_readonly("rule", &grid_object::rule,
+                               "'gather' or 'symmetric' with a radius per point, else None")
         .def_property_readonly("dim", &grid_object::dim, "Dimension: 2 or 3")
         .def_property_readonly("dtype", &grid_object::dtype, "float32 or float64")
         .def_property_readonly("kind", &grid_object::kind, "'uniform' or 'hash'")
@@ -235,13 +246,13 @@ PYBIND11_MODULE(_frnn, m) {
 
     m.def(
         "query_pairs",
-        [](const py::object& points, double radius, std::string grid, std::optional<double> cell_size,
-           py::object periodic, std::optional<int> threads) {
+        [](const py::object& points, const py::object& radius, std::string grid, std::optional<double> cell_size,
+           py::object periodic, std::optional<int> threads, std::string rule) {
             return grid_object(points, radius,
-                               grid_args{std::move(grid), cell_size, periodic, threads})
+                               grid_args{std::move(grid), cell_size, periodic, threads, std::move(rule)})
                 .query_pairs();
         },
         one_shot_doc, py::arg("points"), py::arg("radius"), py::kw_only(),
         py::arg("grid") = "auto", py::arg("cell_size") = py::none(),
-        py::arg("periodic") = py::none(), py::arg("threads") = py::none());
+        py::arg("periodic") = py::none(), py::arg("threads") = py::none(), py::arg("rule") = "symmetric");
 }

@@ -249,10 +249,10 @@ struct query_engine {
 
     /// Whether the rows of a list are ones whose hit bits the count sweep can keep: rows (full
     /// or half, not the k nearest) in block order or sorted by index, without distances, and
-    /// not of points that visit cells within radii of their own.
+    /// not of points that visit fewer cells for radii of their own (sweeper::own_reach).
     bool keeps_hit_masks(const list_options& o, std::size_t k_nearest, const T* query_r2) const {
-        const bool own_radii = query_r2 || (g.has_point_radii() && g.options().rule == radius_rule::gather);
-        return k_nearest == 0 && !o.distances && o.order != row_order::distance && !own_radii;
+        const bool own_reach = g.reach() > 1 && (query_r2 || (g.has_point_radii() && g.options().rule == radius_rule::gather));
+        return k_nearest == 0 && !o.distances && o.order != row_order::distance && !own_reach;
     }
 
     /// The count sweep of a list: row sizes into job.counts, keeping the hit bits if `kept`.

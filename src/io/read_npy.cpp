@@ -44,17 +44,27 @@ std::vector<T> read_rows(std::FILE* f, const npy_header& h, std::uint64_t begin,
 
 point_set read_npy_points(const std::filesystem::path& file) { return read_npy_slice(file, 0, 1).points; }
 
-point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts) {
-    const std::string name = file.string();
-    file_ptr f(std::fopen(name.c_str(), "rb"), std::fclose);
-    if (!f) detail::fail(name, std::string("cannot open: ") + std::strerror(errno));
+namespace {
+/// An opened .npy file of float32 or float64 data: its header and size.
+struct npy_file {
+    file_ptr f{nullptr, std::fclose};
+    npy_header h;
+    std::uint64_t size = 0;
+    bool f32 = false;
+};
+
+npy_file open_npy(const std::filesystem::path& file, const std::string& name, const char* needs) {
+    npy_file out;
+    out.f = file_ptr(std::fopen(name.c_str(), "rb"), std::fclose);
+    if (!out.f) detail::fail(name, std::string("cannot open: ") + std::strerror(errno));
     std::error_code ec;
     const std::uint64_t file_size = std::filesystem::file_size(file, ec);
     if (ec) detail::fail(name, "cannot read size: " + ec.message());
+    out.size = file_size;
 
     // The header length sits in bytes 8-9 (version 1) or 8-11 (versions 2 and 3).
     std::string head(std::min<std::uint64_t>(file_size, 12), '\0');
-    if (std::fread(head.data(), 1, head.size(), f.get()) != head.size())
+    if (std::fread(head.data(), 1, head.size(), out.f.get()) != head.size())
         detail::fail(name, "read error in the header");
     std::size_t total = head.size();
     if (head.size() >= 10 && head.compare(0, 6, "\x93NUMPY") == 0) {
@@ -67,26 +77,28 @@ point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part
     }
     const std::size_t have = head.size();
     head.resize(std::max(total, have));
-    if (total > have && std::fread(head.data() + have, 1, total - have, f.get()) != total - have)
+    if (total > have && std::fread(head.data() + have, 1, total - have, out.f.get()) != total - have)
         detail::fail(name, "read error in the header");
-    const npy_header h = parse_npy_header(head, name);
-    const bool f32 = h.descr == "<f4", f64 = h.descr == "<f8";
+    out.h = parse_npy_header(head, name);
+    const bool f32 = out.h.descr == "<f4", f64 = out.h.descr == "<f8";
     if (!f32 && !f64) {
-        const bool big = !h.descr.empty() && h.descr[0] == '>';
-        detail::fail(name, "dtype '" + h.descr + "' is not supported" +
-                               (big ? " (big-endian)" : "") +
-                               ": point files need little-endian float32 ('<f4') or float64 ('<f8')");
+        const bool big = !out.h.descr.empty() && out.h.descr[0] == '>';
+        detail::fail(name, "dtype '" + out.h.descr + "' is not supported" + (big ? " (big-endian)" : "") + ": " + needs +
+                               " need little-endian float32 ('<f4') or float64 ('<f8')");
     }
-    if (h.shape.size() != 2 || (h.shape[1] != 2 && h.shape[1] != 3))
-        detail::fail(name, "shape " + shape_text(h.shape) + " is not (N, 2) or (N, 3)");
+    out.f32 = f32;
+    return out;
+}
 
-    const std::uint64_t item = f32 ? 4 : 8;
-    const std::uint64_t n = h.shape[0];
+/// Fails unless the data of n rows of `width` values fills the file exactly.
+void check_data_size(const npy_file& in, std::uint64_t n, std::uint64_t width, const std::string& name) {
+    const npy_header& h = in.h;
+    const std::uint64_t item = in.f32 ? 4 : 8;
     if (n > (std::uint64_t(1) << 60) / (item * 3))
         detail::fail(name, "shape " + shape_text(h.shape) + " is too large");
-    const std::uint64_t need = n * h.shape[1] * item, avail = file_size - h.data_offset;
+    const std::uint64_t need = n * width * item, avail = in.size - h.data_offset;
     if (avail < need)
-        detail::fail(name, "byte " + std::to_string(file_size) + ": data truncated: shape " +
+        detail::fail(name, "byte " + std::to_string(in.size) + ": data truncated: shape " +
                                shape_text(h.shape) + " needs " + std::to_string(need) +
                                " bytes after the header (byte " + std::to_string(h.data_offset) +
                                "), the file has " + std::to_string(avail));
@@ -94,6 +106,20 @@ point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part
         detail::fail(name, "byte " + std::to_string(h.data_offset + need) + ": " +
                                std::to_string(avail - need) +
                                " unexpected bytes after the data of shape " + shape_text(h.shape));
+}
+}  // namespace
+
+point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts) {
+    const std::string name = file.string();
+    npy_file in = open_npy(file, name, "point files");
+    const npy_header& h = in.h;
+    std::FILE* const f = in.f.get();
+    const bool f32 = in.f32;
+    if (h.shape.size() != 2 || (h.shape[1] != 2 && h.shape[1] != 3))
+        detail::fail(name, "shape " + shape_text(h.shape) + " is not (N, 2) or (N, 3)");
+
+    const std::uint64_t n = h.shape[0];
+    check_data_size(in, n, h.shape[1], name);
 
     point_slice slice;
     slice.total = n;
@@ -102,12 +128,32 @@ point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part
     point_set& points = slice.points;
     points.dimension = int(h.shape[1]);
     if (f32)
-        points.coords = read_rows<float>(f.get(), h, slice.first, end, name);
+        points.coords = read_rows<float>(f, h, slice.first, end, name);
     else
-        points.coords = read_rows<double>(f.get(), h, slice.first, end, name);
+        points.coords = read_rows<double>(f, h, slice.first, end, name);
     std::visit([&](const auto& v) { detail::check_finite(std::span(v), points.dimension, name, slice.first); },
                points.coords);
     return slice;
+}
+
+std::vector<double> read_npy_values(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    npy_file in = open_npy(file, name, "value files");
+    npy_header h = in.h;
+    if (!(h.shape.size() == 1 || (h.shape.size() == 2 && h.shape[1] == 1)))
+        detail::fail(name, "shape " + shape_text(h.shape) + " is not (N,) or (N, 1)");
+    const std::uint64_t n = h.shape[0];
+    check_data_size(in, n, 1, name);
+    h.shape = {n, 1};
+    h.fortran_order = false;  // one column: both orders are the same bytes
+    std::vector<double> out;
+    if (in.f32) {
+        const auto v = read_rows<float>(in.f.get(), h, 0, n, name);
+        out.assign(v.begin(), v.end());
+    } else {
+        out = read_rows<double>(in.f.get(), h, 0, n, name);
+    }
+    return out;
 }
 
 }  // namespace frnn::io

@@ -55,6 +55,10 @@ TEST_F(cli_errors, usage_errors_exit_2) {
     expect_failure(dir, "query p.npy -r 1 --periodic 4,1,4", 2, {"--periodic", "2 * radius", "axis 1"});
     expect_failure(dir, "query p.npy -r 1 --periodic 4,0,1", 2, {"--periodic", "2 * radius", "axis 2"});
     expect_failure(dir, "query p.npy -r 1 --periodic 4,-1,4", 2, {"--periodic", "'-1'"});
+    expect_failure(dir, "query p.npy -r radii.txt", 2, {"--radius", "radii.txt"});
+    expect_failure(dir, "query p.npy -r r.npy --backend vulkan", 2, {"--backend", "one radius"});
+    expect_failure(dir, "query p.npy -r r.npy --queries flat.csv", 2, {"--queries", "radius per point"});
+    expect_failure(dir, "query p.npy -r r.npy --rule both", 2, {"--rule"});
     expect_failure(dir, "", 2, {});
 }
 

@@ -181,6 +181,34 @@ TEST(cli_query, periodic_on_some_axes) {
     EXPECT_LT(expected.size(), wrapped_everywhere.size());
 }
 
+// --radius FILE.npy: a radius per point, gather pairs (i, j) as rows give them, symmetric pairs
+// once (i < j).
+TEST(cli_query, radius_per_point) {
+    const auto dir = fresh_dir();
+    const auto xyz = random_points<double, 3>(400, 5.0, 17);
+    write_points<double, 3>(dir / "p.npy", xyz);
+    std::vector<double> radii(400);
+    for (std::size_t i = 0; i < radii.size(); ++i) radii[i] = 0.2 + 0.8 * double((i * 7919) % 400) / 400.0;
+    io::write_npy<double>(dir / "r.npy", radii);
+    for (auto rule : {radius_rule::gather, radius_rule::symmetric}) {
+        const std::string name(to_string(rule));
+        ASSERT_EQ(run_tool(dir, "query p.npy -r r.npy --rule " + name + " -o out.npy").code, 0) << name;
+        const auto expected = pairs_of(brute_force_lists<double, 3>(xyz, radii, xyz, radii, rule, 1.0, true),
+                                       rule == radius_rule::symmetric);
+        EXPECT_EQ(read_pairs(dir / "out.npy", expected.size() / 2), expected) << name;
+    }
+    // A bad radius names the file and the index; a wrong count, the counts.
+    radii[9] = -1;
+    io::write_npy<double>(dir / "bad.npy", radii);
+    const tool_result bad = run_tool(dir, "query p.npy -r bad.npy");
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("bad.npy: radius 9"), std::string::npos) << bad.err;
+    radii.pop_back();
+    io::write_npy<double>(dir / "short.npy", radii);
+    const tool_result short_file = run_tool(dir, "query p.npy -r short.npy");
+    EXPECT_NE(short_file.err.find("399 radii for 400 points"), std::string::npos) << short_file.err;
+}
+
 TEST(cli_query, empty_input_gives_no_pairs) {
     const auto dir = fresh_dir();
     write_bytes(dir / "e.csv", "x,y,z\n");

@@ -1,4 +1,4 @@
-// The workloads of BENCHMARKS.md (W1..W5, W8), generated in process from std::mt19937_64 seeded
+// The workloads of BENCHMARKS.md (W1..W5, W7, W8), generated in process from std::mt19937_64 seeded
 // with 42, drawing x, then y, then z of each point in order. O(N) time and memory.
 //
 // The mapping from the generator's 64-bit words to numbers is fixed here (not left to the
@@ -17,7 +17,7 @@
 namespace frnn::bench {
 
 struct workload {
-    std::string id;                    ///< "W1" .. "W5", "W8"
+    std::string id;                    ///< "W1" .. "W5", "W7", "W8"
     std::string name;                  ///< "lattice", "uniform", ...
     int dim;                           ///< 2 or 3
     double radius;                     ///< search radius of the workload
@@ -28,14 +28,14 @@ struct workload {
     bool md = false;
 };
 
-/// W1..W5 and W8 in order.
+/// W1..W5, W7 and W8 in order.
 const std::vector<workload>& all_workloads();
 /// The workload with this id (case-insensitive); throws frnn::error for an unknown id.
 const workload& find_workload(std::string_view id);
 /// "all", one id, or a comma list ("W1,W2"); ids returned upper-case, in the order given.
 std::vector<std::string> parse_workload_list(std::string_view text);
 
-/// Number of points `w` generates when asked for `n`: n for W2 and W3; for the lattice
+/// Number of points `w` generates when asked for `n`: n for W2, W3 and W7; for the lattice
 /// workloads the lattice count nearest to n (side^3 for W1, side^2 for W4, side^3 + 1 for W5,
 /// 4 side^3 for W8; the smaller on a tie). Throws frnn::error when it
 /// is 0 or beyond 2^32 - 2 points.
@@ -59,6 +59,11 @@ std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long se
 /// ... and `count` points uniform in the cube (square) of side count^(1/dim), density 1 (W2).
 template <class T>
 std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed);
+
+/// W7's radii: `count` values uniform in [lo, hi], one per point in point order, from
+/// std::mt19937_64 seeded with `seed` (the bench uses 43: the points take 42).
+template <class T>
+std::vector<T> point_radii(std::size_t count, double lo, double hi, unsigned long long seed);
 
 /// W8's lattice constant: 4 atoms per a^3 at LAMMPS's LJ density 0.8442.
 double fcc_lattice_constant();

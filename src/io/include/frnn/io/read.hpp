@@ -23,6 +23,10 @@ point_set read_points(const std::filesystem::path& file);
 bool is_point_file(const std::filesystem::path& file);
 
 point_set read_npy_points(const std::filesystem::path& file);
+
+/// One value per row of a .npy of shape (N,) or (N, 1), float32 or float64 (radii per point);
+/// throws frnn::error naming the file for anything else. Values are not checked here.
+std::vector<double> read_npy_values(const std::filesystem::path& file);
 /// Rows [first, first + points.size()) of an .npy point file of `total` rows.
 struct point_slice {
     point_set points;
