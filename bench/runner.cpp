@@ -175,7 +175,7 @@ private:
         fixed(double(radius_));
         for (double low : {0.5, 0.2}) {
             fixed((low + double(radius_)) / 2);
-            const std::vector<T> radii = point_radii<T>(n(), low, double(radius_), workload_seed + 1);
+            const std::vector<T> radii = point_radii<T>(n(), low, double(radius_), workload_seed + 2);
             for (auto rule : {radius_rule::gather, radius_rule::symmetric}) {
                 grid_options per_point = go;
                 per_point.rule = rule;
@@ -185,7 +185,7 @@ private:
                 run_method(threads, method, [&] { return grid<T, D>(points(), radii, per_point); }, counts, lists);
             }
         }
-        info_.notes.push_back("W7: radii uniform in [0.5, 2] and [0.2, 2] (std::mt19937_64 seeded 43); 'frnn r=R' is the "
+        info_.notes.push_back("W7: radii uniform in [0.5, 2] and [0.2, 2] (std::mt19937_64 seeded 44); 'frnn r=R' is the "
                               "fixed-radius search of the same points, at 2 and at the mean radius");
     }
 

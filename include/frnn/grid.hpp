@@ -5,8 +5,9 @@
 //
 // With a radius per point (build with `radii`), j is a neighbor of i when |x_i - x_j| <= r_i
 // (radius_rule::gather) or <= max(r_i, r_j) (radius_rule::symmetric), as grid_options::rule
-// says. Cells are sized from the largest radius; a point of a small radius visits only the
-// cells within its own radius (gather). Query points then come with radii of their own.
+// says. Cells are sized from the largest radius, and every row tests the candidates of that
+// stencil against its own limit (docs/DESIGN.md says what else was measured). Query points
+// then come with radii of their own.
 //
 // Construction is a counting sort of the points by cell (per-cell counts with an index inside
 // the cell, exclusive prefix sum, stable scatter), so the grid keeps a copy of the points in
@@ -198,10 +199,9 @@ private:
     /// uniform grid with open boundaries, `width` > 1 takes the union of the stencils of that
     /// many cells along x from `cell` on (which must lie in the grid). Periodic boxes: the
     /// runs come in increasing order of sorted index, and with `images` each run's image
-    /// (runs of different images are not merged). `reach` > 0: that many cells on each side
-    /// instead of reach() (at most reach()).
+    /// (runs of different images are not merged).
     std::size_t stencil_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
-                             std::int64_t width = 1, detail::run_image* images = nullptr, int reach = 0) const;
+                             std::int64_t width = 1, detail::run_image* images = nullptr) const;
     /// The forward half of that stencil: the cells after `cell` in row-major order of cell
     /// coordinates (itself included, first), so that visiting these from every cell meets each
     /// pair of cells once (pairs inside the first run once by index order). `width` as for
@@ -335,8 +335,7 @@ private:
     /// Hashed grid: the sorted points [first, second) of a cell (an empty range if it has none).
     std::pair<std::uint32_t, std::uint32_t> hashed_cell_points(const std::array<std::int64_t, 3>& cell) const;
     /// Hashed grid: the runs of the stencil of a cell, or of its forward half.
-    std::size_t hashed_runs(const std::array<std::int64_t, 3>& cell, bool forward, detail::candidate_run* out,
-                            int reach) const;
+    std::size_t hashed_runs(const std::array<std::int64_t, 3>& cell, bool forward, detail::candidate_run* out) const;
 
     // Configuration.
     grid_options options_;

@@ -36,8 +36,8 @@ struct grid_access {
     /// grid::forward_runs for `width` and `images`.
     template <class T, int D>
     static std::size_t stencil_runs(const grid<T, D>& g, const cell& c, candidate_run* out, std::int64_t width = 1,
-                                    run_image* images = nullptr, int reach = 0) {
-        return g.stencil_runs(c, out, width, images, reach);
+                                    run_image* images = nullptr) {
+        return g.stencil_runs(c, out, width, images);
     }
     /// A radius per point: their squares in search space, cell order, then coordinate_padding
     /// zeros; null for a grid of one radius.

@@ -92,7 +92,7 @@ struct query_engine {
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        const auto kept = keeps_hit_masks(o, k_nearest, query_r2) ? plan_hit_masks(job, rows, parts) : nullptr;
+        const auto kept = keeps_hit_masks(o, k_nearest) ? plan_hit_masks(job, rows, parts) : nullptr;
         count_rows(job, rows, parts, kept.get());
         std::copy(sizes.begin(), sizes.end(), out.offsets.begin());
         fill_rows(out, job, o.distances, parts, kept.get());
@@ -222,7 +222,7 @@ struct query_engine {
         std::vector<std::uint32_t, uninitialized_allocator<std::uint32_t>> sizes(rows);
         job.counts = sizes.data();
         std::size_t parts = chunk_count(rows, threads, 2048);
-        const auto kept = keeps_hit_masks(o, k_nearest, nullptr) ? plan_hit_masks(job, rows, parts) : nullptr;
+        const auto kept = keeps_hit_masks(o, k_nearest) ? plan_hit_masks(job, rows, parts) : nullptr;
         // Half rows count each pair once, for the row that holds it, unless a point's sweep
         // skips the candidates before it anyway: an open uniform grid in its own numbering
         // (W8 half lists in the caller's numbering, 32,000 atoms, 1 thread: 42 -> 23 ms).
@@ -248,11 +248,9 @@ struct query_engine {
     }
 
     /// Whether the rows of a list are ones whose hit bits the count sweep can keep: rows (full
-    /// or half, not the k nearest) in block order or sorted by index, without distances, and
-    /// not of points that visit fewer cells for radii of their own (sweeper::own_reach).
-    bool keeps_hit_masks(const list_options& o, std::size_t k_nearest, const T* query_r2) const {
-        const bool own_reach = g.reach() > 1 && (query_r2 || (g.has_point_radii() && g.options().rule == radius_rule::gather));
-        return k_nearest == 0 && !o.distances && o.order != row_order::distance && !own_reach;
+    /// or half, not the k nearest) in block order or sorted by index, without distances.
+    static bool keeps_hit_masks(const list_options& o, std::size_t k_nearest) {
+        return k_nearest == 0 && !o.distances && o.order != row_order::distance;
     }
 
     /// The count sweep of a list: row sizes into job.counts, keeping the hit bits if `kept`.

@@ -37,9 +37,9 @@ bool grid<T, D>::images_exact() const {
 
 template <class T, int D>
 std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detail::candidate_run* out,
-                                     std::int64_t width, detail::run_image* images, int reach) const {
+                                     std::int64_t width, detail::run_image* images) const {
     std::size_t n = 0;
-    const int k = reach > 0 ? reach : geometry_.reach;
+    const int k = geometry_.reach;
     auto add = [&](std::uint32_t b, std::uint32_t e) { detail::append_run(out, n, b, e); };
     const int zr = D == 3 ? k : 0;
     if (geometry_.kind == grid_kind::uniform && !geometry_.periodic) {
@@ -118,14 +118,14 @@ std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>& c, detai
             }
         return n;
     }
-    return hashed_runs(c, false, out, k);
+    return hashed_runs(c, false, out);
 }
 
 // The rows of cells of the stencil (or its forward half: the row of `c` from `c` on first)
 // through the table: consecutive x cells are consecutive slots.
 template <class T, int D>
 std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool forward,
-                                    detail::candidate_run* out, int reach) const {
+                                    detail::candidate_run* out) const {
     std::size_t n = 0;
     auto row = [&](std::int64_t y, std::int64_t z, std::int64_t x0, std::int64_t x1) {
         for (std::int64_t x = x0; x <= x1; ++x) {
@@ -133,7 +133,7 @@ std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>& c, bool f
             detail::append_run(out, n, b, e);
         }
     };
-    const int k = reach;
+    const int k = geometry_.reach;
     const int zr = D == 3 ? k : 0;
     if (!forward) {
         for (int dz = -zr; dz <= zr; ++dz)
@@ -178,7 +178,7 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
     const int k = geometry_.reach;
     std::size_t n = 0;
     if (geometry_.kind == grid_kind::hashed)  // the same cells, found through the table
-        return hashed_runs(c, true, out, k);
+        return hashed_runs(c, true, out);
     if (geometry_.periodic) {
         // Wrapped on the periodic axes, cut at the grid's ends on open ones. With 2k + 1 cells
         // or more on every periodic axis (the caller's condition) the cells c + d are
@@ -249,11 +249,11 @@ std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>& c, detai
 #define FRNN_INSTANTIATE_STENCILS(T, D)                                                                      \
     template bool grid<T, D>::images_exact() const;                                                         \
     template std::size_t grid<T, D>::stencil_runs(const std::array<std::int64_t, 3>&, detail::candidate_run*, \
-                                                  std::int64_t, detail::run_image*, int) const;             \
+                                                  std::int64_t, detail::run_image*) const;                  \
     template std::size_t grid<T, D>::forward_runs(const std::array<std::int64_t, 3>&, detail::candidate_run*, \
                                                   std::int64_t, detail::run_image*) const;                  \
     template std::size_t grid<T, D>::hashed_runs(const std::array<std::int64_t, 3>&, bool,                  \
-                                                 detail::candidate_run*, int) const;                        \
+                                                 detail::candidate_run*) const;                             \
     template std::pair<std::uint32_t, std::uint32_t> grid<T, D>::hashed_cell_points(                        \
         const std::array<std::int64_t, 3>&) const;
 FRNN_INSTANTIATE_STENCILS(float, 2)

@@ -69,12 +69,6 @@ struct sweeper {
     const T* own_r2 = nullptr;
     /// Symmetric radius per point: a candidate's own radius counts too.
     bool symmetric = false;
-    /// Rows of different radii (gather): each point visits only the cells within its own
-    /// radius, reach_of(limit) of them on each side. reach_factor: (1 + 2^-20) / the narrowest
-    /// cell, the margin covering the rounding of cell coordinates as the grid's reach does.
-    bool own_reach = false;
-    double reach_factor = 0;
-    std::vector<std::uint8_t> group_reach;
 
     sweeper(const grid<T, D>& gr, const sweep_job<T>& j)
         : g(gr), job(j), r2(gr.search_radius() * gr.search_radius()), group_width(group_width_for(gr)) {
@@ -84,21 +78,12 @@ struct sweeper {
         }
         own_r2 = grid_access::point_r2(gr);
         symmetric = own_r2 && gr.options().rule == radius_rule::symmetric;
-        own_reach = !symmetric && (job.of_queries() ? job.query_r2 != nullptr : own_r2 != nullptr) && gr.reach() > 1;
-        double narrowest = gr.geometry().cell[0];
-        for (int a = 1; a < D; ++a) narrowest = std::min(narrowest, gr.geometry().cell[a]);
-        reach_factor = (1 + 0x1p-20) / narrowest;
     }
 
     /// The squared search radius of point s (search space).
     T limit(std::uint32_t s) const {
         if (job.of_queries()) return job.query_r2 ? job.query_r2[job.query_order[s]] : r2;
         return own_r2 ? own_r2[s] : r2;
-    }
-    /// Cells on each side that hold every candidate within sqrt(lim) of a point.
-    int reach_of(T lim) const {
-        const double cells = std::ceil(std::sqrt(double(lim)) * reach_factor);
-        return int(std::clamp(cells, 1.0, double(g.reach())));
     }
 
     std::array<T, D> point(std::uint32_t s) const {
@@ -159,31 +144,6 @@ struct sweeper {
         return f(point_kernel<T, D, wrap_mode::none, ByCandidate>(x.data(), lim, box));
     }
 
-    /// Calls visit(b, e, first) for the points [gb, ge) of a group in ranges that share one
-    /// gathered block (with ids unless with_ids is false), `first` the block position of b
-    /// among grid points: the whole group, or with reaches of their own, the points of each
-    /// reach in turn (visit then skips the others: keep(s) says which).
-    template <class V>
-    void for_each_block(std::uint32_t gb, std::uint32_t ge, const std::array<std::int64_t, 3>& cell,
-                        std::int64_t width, bool with_ids, V&& visit) {
-        if (!own_reach) {
-            gather(cell, width, with_ids);
-            visit([](std::uint32_t) { return true; }, job.of_queries() ? 0 : block_position(gb));
-            return;
-        }
-        group_reach.resize(ge - gb);
-        unsigned present = 0;
-        for (std::uint32_t s = gb; s < ge; ++s) {
-            group_reach[s - gb] = std::uint8_t(reach_of(limit(s)));
-            present |= 1u << group_reach[s - gb];
-        }
-        for (int k = 1; k <= g.reach(); ++k) {
-            if (!(present >> k & 1)) continue;
-            gather(cell, width, with_ids, k);
-            visit([&, k](std::uint32_t s) { return group_reach[s - gb] == k; }, job.of_queries() ? 0 : block_position(gb));
-        }
-    }
-
     /// Periodic box: whether the minimum image may differ from the plain difference for a
     /// point of `cell` and a candidate of its stencil. It cannot when every point lies inside
     /// the box, the stencil does not wrap, and the box spans at least 2k + 3 cells: then
@@ -198,11 +158,10 @@ struct sweeper {
         return false;
     }
 
-    /// The cell's stencil (of `reach` cells on each side; 0: the grid's) into the block
-    /// (without ids unless with_ids), with its shifts where grid points wrap by them and the
-    /// candidates' radii when they count.
-    void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width, bool with_ids = true, int reach = 0) {
-        nruns = grid_access::stencil_runs(g, cell, runs, width, Periodic ? images : nullptr, reach);
+    /// The cell's stencil into the block (without ids unless with_ids), with its shifts where
+    /// grid points wrap by them and the candidates' radii when they count.
+    void gather(const std::array<std::int64_t, 3>& cell, std::int64_t width, bool with_ids = true) {
+        nruns = grid_access::stencil_runs(g, cell, runs, width, Periodic ? images : nullptr);
         block.gather(g, runs, nruns, job.ids, with_ids);
         if (shifts && wraps(cell)) block.gather_shifts(runs, images, nruns, box);
         if (symmetric) block.gather_r2(g, runs, nruns);
@@ -240,22 +199,21 @@ struct sweeper {
 
     void count(std::size_t b, std::size_t e) {
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+            gather(cell, width);
             const bool wrap = wraps(cell);
-            for_each_block(gb, ge, cell, width, true, [&](const auto& keep, std::uint32_t first) {
-                for (std::uint32_t s = gb; s < ge; ++s) {
-                    if (!keep(s)) continue;
-                    const auto x = point(s);
-                    std::uint32_t c = with_kernel(s, x, wrap, [&](const auto& kern) {
-                        if (!job.half)  // the point itself is always a candidate at distance 0
-                            return kern.count_all(block) - (job.self ? 0 : 1);
-                        const candidate_filter f = filter(s, first + (s - gb));
-                        return filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
-                                              : kern.template emit<false, true>(block, f, nullptr, nullptr);
-                    });
-                    if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
-                    job.counts[job.of_queries() ? id(s) : s] = c;
-                }
-            });
+            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
+            for (std::uint32_t s = gb; s < ge; ++s) {
+                const auto x = point(s);
+                std::uint32_t c = with_kernel(s, x, wrap, [&](const auto& kern) {
+                    if (!job.half)  // the point itself is always a candidate at distance 0
+                        return kern.count_all(block) - (job.self ? 0 : 1);
+                    const candidate_filter f = filter(s, first + (s - gb));
+                    return filter_by_id() ? kern.template emit<false, true, true>(block, f, nullptr, nullptr)
+                                          : kern.template emit<false, true>(block, f, nullptr, nullptr);
+                });
+                if (job.k_nearest > 0) c = std::uint32_t(std::min<std::size_t>(c, job.k_nearest));
+                job.counts[job.of_queries() ? id(s) : s] = c;
+            }
         });
     }
 
@@ -305,38 +263,37 @@ struct sweeper {
         std::vector<std::pair<T, std::uint32_t>> pairs;
         const std::vector<std::uint64_t> starts = scattered_row_starts(b, e);
         for_each_group(b, e, [&](std::uint32_t gb, std::uint32_t ge, const auto& cell, std::int64_t width) {
+            gather(cell, width);
             const bool wrap = wraps(cell);
-            for_each_block(gb, ge, cell, width, true, [&](const auto& keep, std::uint32_t first) {
-                if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
-                for (std::uint32_t s = gb; s < ge; ++s) {
-                    if (!keep(s)) continue;
-                    const auto x = point(s);
-                    const candidate_filter f = filter(s, first + (s - gb));
-                    const std::uint64_t dst = row_start(starts, s, b, e);
-                    std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
-                    T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
-                    if (need_d2 && !d2) {  // ordering by distance without returning distances
-                        grow(row_d2, block.padded);
-                        d2 = row_d2.data();
-                    }
-                    std::uint32_t n = with_kernel(s, x, wrap, [&](const auto& kern) {
-                        if (filter_by_id())
-                            return d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
-                                      : kern.template emit<false, false, true>(block, f, ids, nullptr);
-                        return d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
-                    });
-                    if (job.k_nearest > 0 || job.order == row_order::distance ||
-                        (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
-                        if (d2) n = sort_row(n, ids, d2, pairs);
-                        else sort_ids(ids, n);
-                    }
-                    if (job.k_nearest > 0 && n > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
-                    if (job.distances) {
-                        T* out = job.distances + dst;
-                        for (std::uint32_t k = 0; k < n; ++k) out[k] = std::sqrt(d2[k]);
-                    }
+            const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
+            if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
+            for (std::uint32_t s = gb; s < ge; ++s) {
+                const auto x = point(s);
+                const candidate_filter f = filter(s, first + (s - gb));
+                const std::uint64_t dst = row_start(starts, s, b, e);
+                std::uint32_t* ids = job.k_nearest > 0 ? row_ids.data() : job.indices + dst;
+                T* d2 = job.k_nearest > 0 ? row_d2.data() : job.distances ? job.distances + dst : nullptr;
+                if (need_d2 && !d2) {  // ordering by distance without returning distances
+                    grow(row_d2, block.padded);
+                    d2 = row_d2.data();
                 }
-            });
+                std::uint32_t n = with_kernel(s, x, wrap, [&](const auto& kern) {
+                    if (filter_by_id())
+                        return d2 ? kern.template emit<true, false, true>(block, f, ids, d2)
+                                  : kern.template emit<false, false, true>(block, f, ids, nullptr);
+                    return d2 ? kern.template emit<true>(block, f, ids, d2) : kern.template emit<false>(block, f, ids, nullptr);
+                });
+                if (job.k_nearest > 0 || job.order == row_order::distance ||
+                    (job.order == row_order::index && !std::is_sorted(ids, ids + n))) {
+                    if (d2) n = sort_row(n, ids, d2, pairs);
+                    else sort_ids(ids, n);
+                }
+                if (job.k_nearest > 0 && n > 0) std::memcpy(job.indices + dst, ids, n * sizeof(std::uint32_t));
+                if (job.distances) {
+                    T* out = job.distances + dst;
+                    for (std::uint32_t k = 0; k < n; ++k) out[k] = std::sqrt(d2[k]);
+                }
+            }
         });
     }
 

@@ -61,7 +61,7 @@ template <class T>
 std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed);
 
 /// W7's radii: `count` values uniform in [lo, hi], one per point in point order, from
-/// std::mt19937_64 seeded with `seed` (the bench uses 43: the points take 42).
+/// std::mt19937_64 seeded with `seed` (the bench uses 44: the points take 42, the update 43).
 template <class T>
 std::vector<T> point_radii(std::size_t count, double lo, double hi, unsigned long long seed);
 
