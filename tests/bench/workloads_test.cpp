@@ -14,10 +14,21 @@ using frnn::test::expect_error;
 
 TEST(BenchWorkloads, ListParsing) {
     EXPECT_EQ(fb::parse_workload_list("all"),
-              (std::vector<std::string>{"W1", "W2", "W3", "W4", "W5", "W8"}));
+              (std::vector<std::string>{"W1", "W2", "W3", "W4", "W5", "W7", "W8"}));
     EXPECT_EQ(fb::parse_workload_list("w2, W1,W2"), (std::vector<std::string>{"W2", "W1"}));
-    EXPECT_THROW(fb::parse_workload_list("W7"), frnn::error);
+    EXPECT_THROW(fb::parse_workload_list("W6"), frnn::error);  // the simulation's, not the bench's
     EXPECT_THROW(fb::parse_workload_list("W1,"), frnn::error);
+}
+
+// W7 is W2's points; its radii lie in the range asked, drawn alike every time.
+TEST(BenchWorkloads, RadiiOfW7) {
+    const auto& w7 = fb::find_workload("W7");
+    EXPECT_EQ(fb::generate<float>(w7, 5000), fb::generate<float>(fb::find_workload("W2"), 5000));
+    const auto radii = fb::point_radii<float>(5000, 0.2, 2.0, 44);
+    ASSERT_EQ(radii.size(), 5000u);
+    for (float r : radii) EXPECT_TRUE(r >= 0.2f && r <= 2.0f) << r;
+    EXPECT_EQ(radii, fb::point_radii<float>(5000, 0.2, 2.0, 44));
+    EXPECT_NE(radii, fb::point_radii<float>(5000, 0.2, 2.0, 45));
 }
 
 TEST(BenchWorkloads, DefaultSizesAreThoseOfTheTable) {
