@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "frnn/bench/brute_baseline.hpp"
+#include "frnn/brute_force.hpp"
 #include "frnn/bench/report.hpp"
 #include "frnn/bench/results.hpp"
 #include "frnn/bench/workloads.hpp"
@@ -145,6 +147,37 @@ TEST(BenchCli, MdWorkloadHalfListsAndLammps) {
     EXPECT_EQ(seen.count("lammps/build+half/1"), lammps ? 1u : 0u);
     EXPECT_NE(markdown.find(lammps ? "| LAMMPS / frnn |" : "LAMMPS skipped: no `lmp` on PATH"), std::string::npos);
     EXPECT_EQ(markdown.find("nanoflann"), std::string::npos);  // no periodic boxes there
+}
+
+// The radii workload: every method's phases agree on the pairs of their own search, and those
+// of the radii per point are the brute-force counts of the same points and radii.
+TEST(BenchCli, RadiiWorkloadAgreesWithBruteForce) {
+    const scratch_dir dir("bench_radii");
+    const std::string csv = (dir / "w7.csv").string();
+    ASSERT_EQ(run("bench --workload W7 --n 3000 --threads 1,2 --repeat 1 --csv '" + csv + "' > /dev/null 2>&1"), 0);
+    const auto& w7 = frnn::bench::find_workload("W7");
+    const auto pts = frnn::bench::generate<float>(w7, 3000);
+    std::map<std::string, std::set<std::uint64_t>> pairs;
+    std::istringstream in(slurp(csv));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        ASSERT_NE(line.rfind("# VOID", 0), 0u) << line;
+        const auto f = split(line, ',');
+        if (!f[7].empty()) pairs[f[3]].insert(std::stoull(f[7]));
+    }
+    for (double low : {0.5, 0.2}) {
+        const auto radii = frnn::bench::point_radii<float>(3000, low, 2.0, 44);
+        for (auto rule : {frnn::radius_rule::gather, frnn::radius_rule::symmetric}) {
+            char method[64];
+            std::snprintf(method, sizeof method, "frnn %s %g-2", std::string(frnn::to_string(rule)).c_str(), low);
+            const auto lists = frnn::brute_force_lists<float, 3>(pts, radii, pts, radii, rule, 2.0f, true);
+            ASSERT_EQ(pairs[method].size(), 1u) << method;
+            EXPECT_EQ(*pairs[method].begin(), lists.size()) << method;
+        }
+    }
+    EXPECT_EQ(pairs["frnn r=2"].size(), 1u);
+    EXPECT_EQ(pairs["frnn r=1.25"].size(), 1u);
 }
 
 TEST(BenchCli, OneSizePerWorkloadAsPointsOrSide) {
