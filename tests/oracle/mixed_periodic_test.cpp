@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <string>
 
@@ -173,14 +172,7 @@ TEST(OracleMixedPeriodic, SameAtAnyThreadCount) {
         const auto ref = outputs_at<float, 3>(pts, 0.5f, opt, queries);
         for (int t : {2, 4}) {
             opt.threads = t;
-            const auto got = outputs_at<float, 3>(pts, 0.5f, opt, queries);
-            for (std::size_t k = 0; k < ref.size(); ++k) {
-                EXPECT_EQ(got[k].offsets, ref[k].offsets) << "output " << k << " at " << t << " threads";
-                EXPECT_EQ(got[k].indices, ref[k].indices) << "output " << k << " at " << t << " threads";
-                ASSERT_EQ(got[k].distances.size(), ref[k].distances.size());
-                EXPECT_TRUE(ref[k].distances.empty() || std::memcmp(got[k].distances.data(), ref[k].distances.data(),
-                                                                    ref[k].distances.size() * sizeof(float)) == 0);
-            }
+            expect_identical(outputs_at<float, 3>(pts, 0.5f, opt, queries), ref, std::to_string(t) + " threads");
         }
         for (int t : {2, 3}) {
             opt.threads = t;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <span>
 #include <sstream>
@@ -486,6 +487,21 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
                  compare_csr<T>(all_radii.empty() ? g.query_nearest(qs, k, o) : g.query_nearest(qs, all_radii, k, o),
                                 want, true, row_order::distance, k));
         }
+    }
+}
+
+/// Expects the outputs of one run to equal those of another bit for bit (offsets, indices,
+/// distances); `what` names the run in failures.
+template <class T>
+void expect_identical(const std::vector<csr<T>>& got, const std::vector<csr<T>>& ref, const std::string& what) {
+    ASSERT_EQ(got.size(), ref.size()) << what;
+    for (std::size_t k = 0; k < ref.size(); ++k) {
+        EXPECT_EQ(got[k].offsets, ref[k].offsets) << "output " << k << ", " << what;
+        EXPECT_EQ(got[k].indices, ref[k].indices) << "output " << k << ", " << what;
+        ASSERT_EQ(got[k].distances.size(), ref[k].distances.size()) << "output " << k << ", " << what;
+        EXPECT_TRUE(ref[k].distances.empty() || std::memcmp(got[k].distances.data(), ref[k].distances.data(),
+                                                            ref[k].distances.size() * sizeof(T)) == 0)
+            << "output " << k << ", " << what;
     }
 }
 

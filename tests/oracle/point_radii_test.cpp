@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <random>
 #include <string>
@@ -196,14 +195,8 @@ TEST(OraclePointRadii, SameAtAnyThreadCount) {
         const auto ref = outputs_of<float, 3>(grid<float, 3>(pts, radii, opt), queries, query_radii);
         for (int t : {2, 4}) {
             opt.threads = t;
-            const auto got = outputs_of<float, 3>(grid<float, 3>(pts, radii, opt), queries, query_radii);
-            for (std::size_t k = 0; k < ref.size(); ++k) {
-                EXPECT_EQ(got[k].offsets, ref[k].offsets) << "output " << k << ", " << t << " threads";
-                EXPECT_EQ(got[k].indices, ref[k].indices) << "output " << k << ", " << t << " threads";
-                ASSERT_EQ(got[k].distances.size(), ref[k].distances.size());
-                EXPECT_TRUE(ref[k].distances.empty() || std::memcmp(got[k].distances.data(), ref[k].distances.data(),
-                                                                    ref[k].distances.size() * sizeof(float)) == 0);
-            }
+            expect_identical(outputs_of<float, 3>(grid<float, 3>(pts, radii, opt), queries, query_radii), ref,
+                             std::to_string(t) + " threads");
         }
     }
 }
