@@ -67,6 +67,10 @@ struct sph_params {
     double max_dt = 1e-3;
     bool clamp_negative_pressure = true;
     bool wall_density = true;      ///< boundary integrals of the kernel over the colliders
+    /// > 0: particles move with the transport velocity of Adami, Hu and Adams (2013), pushed
+    /// by this background pressure [Pa] towards a uniform spacing (0: off). For flows with no
+    /// free surface (the background pressure pulls a free surface apart).
+    double background_pressure = 0;
 };
 
 /// Records the surge front: Z = (max x + spacing/2 - origin) / a along `axis`, against
