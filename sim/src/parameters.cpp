@@ -103,6 +103,8 @@ std::vector<parameter> make_table() {
         boolean(sp, S, &spp::wall_density, "wall_density", true, "colliders add to the density"),
         real(sp, S, &spp::background_pressure, "background_pressure", "Pa", 0, unbounded, 0, 1e6, false,
              "transport velocity's background pressure (0: off; no free surface)"),
+        real(sp, S, &spp::settle_time, "settle_time", "s", 0, unbounded, 0, 1, false,
+             "damp the velocities for this long from the start (settling)"),
     };
 }
 

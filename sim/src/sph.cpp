@@ -50,14 +50,16 @@ public:
                 for (int l = (D == 3 ? -k : 0); l <= (D == 3 ? k : 0); ++l) sum += w_(sp * std::sqrt(double(i * i + j * j + l * l)));
         mass_ = prm_.rest_density / sum;
         wall_density_ = mass_ / std::pow(sp, D);
+        double lo = 1e300, hi = -1e300;
+        for (std::size_t i = 0; i < n_; ++i) lo = std::min(lo, double(x_[i * D + 1])), hi = std::max(hi, double(x_[i * D + 1]));
+        const double fluid_height = hi - lo + sp;
         if (prm_.sound_speed > 0) {
             c0_ = prm_.sound_speed;
         } else {
-            double lo = 1e300, hi = -1e300;
-            for (std::size_t i = 0; i < n_; ++i) lo = std::min(lo, double(x_[i * D + 1])), hi = std::max(hi, double(x_[i * D + 1]));
             const double g = std::sqrt(s.gravity[0] * s.gravity[0] + s.gravity[1] * s.gravity[1] + s.gravity[2] * s.gravity[2]);
-            c0_ = 10 * std::sqrt(2 * std::max(g, 1e-3) * (hi - lo + sp));
+            c0_ = 10 * std::sqrt(2 * std::max(g, 1e-3) * fluid_height);
         }
+        settle_rate_ = 3.14159265358979323846 * c0_ / fluid_height;
     }
     double radius() const override { return 2 * h_; }
     double rest_density() const override { return prm_.rest_density; }
@@ -73,6 +75,7 @@ public:
             this->collide(prof, this->time_ + dt);
             evaluate(prof, this->time_ + dt);
             kick(prof, dt / 2);
+            settle(prof, dt);
             finish(prof, dt);
         } else {
             evaluate(prof, this->time_);
@@ -80,6 +83,7 @@ public:
             kick(prof, dt);
             drift(prof, dt, dt);
             this->collide(prof, this->time_ + dt);
+            settle(prof, dt);
             finish(prof, dt);
         }
     }
@@ -140,6 +144,17 @@ private:
             n_, threads_, prof, stage::integration,
             [&](std::size_t i) {
                 for (std::size_t k = i * D; k < i * D + D; ++k) x_[k] += d * (v_[k] + kd * background_acc_[k]);
+            },
+            min_parallel_light);
+    }
+    /// During the settling time, v /= 1 + rate dt (implicit friction, stable at any rate).
+    void settle(profiler& prof, double dt) {
+        if (this->time_ >= prm_.settle_time) return;
+        const float keep = float(1 / (1 + settle_rate_ * dt));
+        parallel_for(
+            n_, threads_, prof, stage::integration,
+            [&](std::size_t i) {
+                for (std::size_t k = i * D; k < i * D + D; ++k) v_[k] *= keep;
             },
             min_parallel_light);
     }
@@ -231,7 +246,7 @@ private:
     double h_;
     cubic_spline<D> w_;
     half_space_integral<D> psi_;
-    double mass_ = 0, wall_density_ = 0, c0_ = 0;
+    double mass_ = 0, wall_density_ = 0, c0_ = 0, settle_rate_ = 0;
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
     bool have_acc_ = false;

@@ -66,10 +66,11 @@ TEST(SimSolvers, IdenticalPositionsAtOneTwoAndThreeThreadsAfter50Steps) {
     }
 }
 
-// The WCSPH option off by default: a periodic box with the transport velocity (and the dam
-// break with it off), each more than the one-thread cutoff.
+// The WCSPH options off by default: the dam break with the settling phase, and a periodic box
+// with the transport velocity, each more than the one-thread cutoff.
 TEST(SimSolvers, WcsphOptionsGiveIdenticalPositionsAtOneAndTwoThreads) {
     scene dam = frnn::test::small_scene("dam-break", solver_kind::sph, 2, 1200);
+    dam.sph.settle_time = 0.005;
     scene box = parse_scene(R"({"name": "box", "solver": "sph", "dim": 2, "particles": 1225, "gravity": [0, 0, 0],
       "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 1],
       "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "velocity": [0.3, 0.1, 0]}],
