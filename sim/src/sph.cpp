@@ -13,7 +13,13 @@
 //   a_i += sum_j m (mu_i + mu_j) x_ij . grad_i W / (rho_i rho_j (r_ij^2 + 0.01 h^2)) v_ij;
 // - symplectic Euler or leapfrog (kick-drift-kick), with a time step from the CFL condition
 //   on c0 plus the flow speed, from the force condition 0.25 sqrt(h / |a|) and, with the
-//   laminar viscosity, from the viscous condition 0.125 h^2 / nu (Morris et al. 1997).
+//   laminar viscosity, from the viscous condition 0.125 h^2 / nu (Morris et al. 1997);
+// - optionally the transport velocity of Adami, Hu and Adams ("A transport-velocity
+//   formulation for smoothed particle hydrodynamics", J. Comput. Phys. 241, 2013, eq. 13):
+//   particles drift with v~ = v + dt a_b, a_b_i = -p_b sum_j m (1/rho_i^2 + 1/rho_j^2) grad_i W,
+//   the force a uniform background pressure p_b would exert. It vanishes on a uniform
+//   arrangement and pushes disordered particles back towards one, which keeps the tensile
+//   instability from clumping them where the pressure is negative.
 #include <cmath>
 #include <memory>
 
@@ -34,6 +40,7 @@ public:
     sph(const scene& s, int threads)
         : base(s, threads), prm_(s.sph), h_(prm_.h_ratio * this->spacing_), w_(2 * h_), psi_(w_) {
         acc_.assign(n_ * D, 0);
+        background_acc_.assign(n_ * D, 0);
         // Mass: an interior particle of the initial lattice has exactly the rest density.
         const double sp = this->spacing_;
         const int k = int(std::ceil(2 * h_ / sp));
@@ -43,14 +50,16 @@ public:
                 for (int l = (D == 3 ? -k : 0); l <= (D == 3 ? k : 0); ++l) sum += w_(sp * std::sqrt(double(i * i + j * j + l * l)));
         mass_ = prm_.rest_density / sum;
         wall_density_ = mass_ / std::pow(sp, D);
+        double lo = 1e300, hi = -1e300;
+        for (std::size_t i = 0; i < n_; ++i) lo = std::min(lo, double(x_[i * D + 1])), hi = std::max(hi, double(x_[i * D + 1]));
+        const double fluid_height = hi - lo + sp;
         if (prm_.sound_speed > 0) {
             c0_ = prm_.sound_speed;
         } else {
-            double lo = 1e300, hi = -1e300;
-            for (std::size_t i = 0; i < n_; ++i) lo = std::min(lo, double(x_[i * D + 1])), hi = std::max(hi, double(x_[i * D + 1]));
             const double g = std::sqrt(s.gravity[0] * s.gravity[0] + s.gravity[1] * s.gravity[1] + s.gravity[2] * s.gravity[2]);
-            c0_ = 10 * std::sqrt(2 * std::max(g, 1e-3) * (hi - lo + sp));
+            c0_ = 10 * std::sqrt(2 * std::max(g, 1e-3) * fluid_height);
         }
+        settle_rate_ = 3.14159265358979323846 * c0_ / fluid_height;
     }
     double radius() const override { return 2 * h_; }
     double rest_density() const override { return prm_.rest_density; }
@@ -62,17 +71,19 @@ public:
             if (!have_acc_) evaluate(prof, this->time_), have_acc_ = true;
             const double dt = time_step();
             kick(prof, dt / 2);
-            drift(prof, dt);
+            drift(prof, dt, dt / 2);
             this->collide(prof, this->time_ + dt);
             evaluate(prof, this->time_ + dt);
             kick(prof, dt / 2);
+            settle(prof, dt);
             finish(prof, dt);
         } else {
             evaluate(prof, this->time_);
             const double dt = time_step();
             kick(prof, dt);
-            drift(prof, dt);
+            drift(prof, dt, dt);
             this->collide(prof, this->time_ + dt);
+            settle(prof, dt);
             finish(prof, dt);
         }
     }
@@ -80,11 +91,13 @@ public:
     void save(std::ostream& o) const override {
         this->save_common(o);
         write_vec(o, acc_);
+        write_vec(o, background_acc_);
         write_pod(o, std::uint8_t(have_acc_));
     }
     void load(std::istream& in) override {
         this->load_common(in);
         read_vec(in, acc_, n_ * D);
+        read_vec(in, background_acc_, n_ * D);
         std::uint8_t h = 0;
         read_pod(in, h);
         have_acc_ = h != 0;
@@ -123,15 +136,29 @@ private:
             },
             min_parallel_light);
     }
-    void drift(profiler& prof, double dt) {
-        const float d = float(dt);
+    /// x += dt v, or with the transport velocity x += dt (v + kick_dt a_b) (Adami et al.
+    /// 2013: the background pressure's kick, of the same length as the last velocity kick).
+    void drift(profiler& prof, double dt, double kick_dt) {
+        const float d = float(dt), kd = transport_velocity() ? float(kick_dt) : 0.0f;  // a_b is 0 when off
         parallel_for(
             n_, threads_, prof, stage::integration,
             [&](std::size_t i) {
-                for (std::size_t k = i * D; k < i * D + D; ++k) x_[k] += d * v_[k];
+                for (std::size_t k = i * D; k < i * D + D; ++k) x_[k] += d * (v_[k] + kd * background_acc_[k]);
             },
             min_parallel_light);
     }
+    /// During the settling time, v /= 1 + rate dt (implicit friction, stable at any rate).
+    void settle(profiler& prof, double dt) {
+        if (this->time_ >= prm_.settle_time) return;
+        const float keep = float(1 / (1 + settle_rate_ * dt));
+        parallel_for(
+            n_, threads_, prof, stage::integration,
+            [&](std::size_t i) {
+                for (std::size_t k = i * D; k < i * D + D; ++k) v_[k] *= keep;
+            },
+            min_parallel_light);
+    }
+    bool transport_velocity() const { return prm_.background_pressure > 0; }
 
     float pressure(float rho) const {
         const double r = rho, r0 = prm_.rest_density;
@@ -143,7 +170,9 @@ private:
 
     /// Grid, density and pressure, then accelerations, at the current positions.
     void evaluate(profiler& prof, double t) {
-        this->rebuild_grid(prof, 2 * h_, acc_);
+        // Leapfrog's next drift reads the background accelerations of this evaluation.
+        if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
+        else this->rebuild_grid(prof, 2 * h_, acc_);
         const auto walls = this->colliders_.at(t);
         const bool use_walls = prm_.wall_density && !walls.empty();
         const double R = 2 * h_;
@@ -165,10 +194,10 @@ private:
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         const bool laminar_viscosity = laminar();
         const double alpha = laminar_viscosity ? 0 : prm_.alpha, nu = laminar_viscosity ? prm_.nu : 0;
-        const double h = h_, c0 = c0_, m = mass_;
+        const double h = h_, c0 = c0_, m = mass_, pb = prm_.background_pressure;
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
             const double pi_term = p_[i] / (double(rho_[i]) * rho_[i]);
-            double acc[D] = {};
+            double acc[D] = {}, background[D] = {};
             for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
                 const std::size_t j = *it;
                 float r[D];  // x_j - x_i
@@ -186,6 +215,10 @@ private:
                 // a_i = -m f grad_i W = m f dW/dr r / len.
                 const double s = m * f * dw / len;
                 for (int a = 0; a < D; ++a) acc[a] += s * r[a];
+                if (pb > 0) {
+                    const double sb = m * pb * (1 / (double(rho_[i]) * rho_[i]) + 1 / (double(rho_[j]) * rho_[j])) * dw / len;
+                    for (int a = 0; a < D; ++a) background[a] += sb * r[a];
+                }
                 if (nu > 0) {
                     // x_ij . grad_i W = dW/dr len; (mu_i + mu_j) / (rho_i rho_j) = nu (1/rho_j + 1/rho_i).
                     const double k = m * nu * (1 / double(rho_[i]) + 1 / double(rho_[j])) * dw * len /
@@ -204,6 +237,8 @@ private:
                     });
             }
             for (int a = 0; a < D; ++a) acc_[i * D + a] = float(acc[a] + g[a]);
+            if (pb > 0)
+                for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(background[a]);
         });
     }
 
@@ -211,8 +246,9 @@ private:
     double h_;
     cubic_spline<D> w_;
     half_space_integral<D> psi_;
-    double mass_ = 0, wall_density_ = 0, c0_ = 0;
+    double mass_ = 0, wall_density_ = 0, c0_ = 0, settle_rate_ = 0;
     std::vector<float> acc_;
+    std::vector<float> background_acc_;  // the transport velocity's a_b
     bool have_acc_ = false;
 };
 

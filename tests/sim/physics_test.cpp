@@ -150,3 +150,24 @@ TEST(SimPhysics, LaminarViscosityDecaysAShearWaveAtItsRate) {
                 sol->time(), (unsigned long long)sol->steps());
     EXPECT_NEAR(ratio / expected, 1.0, 0.03);
 }
+
+// "settle_time": a tank released from the rest-density lattice rings; damped for the first
+// 0.2 s, its fastest particle at 0.2 s is several times slower than undamped.
+TEST(SimPhysics, SettleTimeDampsATankTowardsRest) {
+    double fastest[2] = {};
+    for (const int settle : {0, 1}) {
+        const std::string text = std::string(R"({"name": "tank", "solver": "sph", "dim": 2, "particles": 400,
+          "domain": {"min": [0, 0, 0], "max": [0.1, 0.2, 0.1]},
+          "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}],
+          "colliders": [{"type": "box", "inside": true, "center": [0.05, 0.1, 0.05], "half": [0.05, 0.1, 0.05]}],
+          "sph": {"settle_time": )") + (settle ? "0.2" : "0") + "}}";
+        auto sol = make_solver(parse_scene(text, "tank"), 1);
+        profiler p;
+        while (sol->time() < 0.2) sol->step(p);
+        const auto v = sol->view();
+        for (std::size_t i = 0; i < v.n; ++i)
+            fastest[settle] = std::max(fastest[settle], std::hypot(double(v.v[2 * i]), double(v.v[2 * i + 1])));
+    }
+    EXPECT_GT(fastest[0], 0.01);  // undamped, the tank does move
+    EXPECT_LT(fastest[1], fastest[0] / 3) << fastest[1] << " against " << fastest[0];
+}

@@ -67,6 +67,14 @@ struct sph_params {
     double max_dt = 1e-3;
     bool clamp_negative_pressure = true;
     bool wall_density = true;      ///< boundary integrals of the kernel over the colliders
+    /// > 0: particles move with the transport velocity of Adami, Hu and Adams (2013), pushed
+    /// by this background pressure [Pa] towards a uniform spacing (0: off). For flows with no
+    /// free surface (the background pressure pulls a free surface apart).
+    double background_pressure = 0;
+    /// > 0: for this long [s] from the start the velocities are damped at rate pi c0 / H
+    /// (critical for the fluid's slowest sound wave, H the initial fluid height), so a fluid
+    /// released at rest settles into equilibrium instead of ringing.
+    double settle_time = 0;
 };
 
 /// Records the surge front: Z = (max x + spacing/2 - origin) / a along `axis`, against
