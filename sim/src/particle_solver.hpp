@@ -60,13 +60,7 @@ public:
         for (std::size_t i = 0; i < n_; ++i) id_[i] = std::uint32_t(i);
         periodic_ = s.is_periodic();
         if (periodic_) {
-            for (int a = 0; a < D; ++a) {
-                if (!(s.periodic[a] > 0))
-                    throw error("scene '" + s.name + "': periodic box: axis " + std::to_string(a) +
-                                " has no length; open axes in a periodic box are not supported yet, give every "
-                                "axis a length > 0");
-                box_[a] = float(s.periodic[a]);
-            }
+            for (int a = 0; a < D; ++a) box_[a] = float(s.periodic[a]);  // 0: an open axis
             wrap_into_box();
         }
     }
@@ -250,15 +244,16 @@ protected:
         float d2 = 0;
         for (int a = 0; a < D; ++a) {
             r[a] = x_[j * D + a] - x_[i * D + a];
-            r[a] -= box_[a] * std::nearbyint(r[a] / box_[a]);
+            if (box_[a] > 0) r[a] -= box_[a] * std::nearbyint(r[a] / box_[a]);
             d2 += r[a] * r[a];
         }
         return std::sqrt(d2);
     }
 
-    /// Particle i's position moved into [0, L) on every axis of the periodic box.
+    /// Particle i's position moved into [0, L) on every periodic axis of the box.
     void wrap_point(std::size_t i) {
         for (int a = 0; a < D; ++a) {
+            if (!(box_[a] > 0)) continue;  // an open axis
             float& x = x_[i * D + a];
             x -= box_[a] * std::floor(x / box_[a]);
             if (x >= box_[a]) x = 0;  // -tiny wraps to L after rounding
@@ -279,7 +274,7 @@ protected:
     grid<float, D> grid_;
     bool built_ = false;
     bool periodic_ = false;
-    float box_[D] = {};  // periodic box lengths
+    float box_[D] = {};  // periodic box lengths (0 on open axes)
     neighbor_table neighbors_;
 };
 
