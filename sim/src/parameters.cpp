@@ -101,6 +101,8 @@ std::vector<parameter> make_table() {
         real(sp, S, &spp::max_dt, "max_dt", "s", 1e-9, 1, 1e-5, 1e-3, true, "largest time step", true),
         boolean(sp, S, &spp::clamp_negative_pressure, "clamp_negative_pressure", true, "no tension: p >= 0"),
         boolean(sp, S, &spp::wall_density, "wall_density", true, "colliders add to the density"),
+        boolean(sp, S, &spp::wall_particles, "wall_particles", false,
+                "static colliders as wall particles with extrapolated pressure"),
         real(sp, S, &spp::background_pressure, "background_pressure", "Pa", 0, unbounded, 0, 1e6, false,
              "transport velocity's background pressure (0: off; no free surface)"),
         real(sp, S, &spp::settle_time, "settle_time", "s", 0, unbounded, 0, 1, false,

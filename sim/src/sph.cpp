@@ -1,7 +1,8 @@
 // Weakly compressible SPH (Monaghan, "Simulating free surface flows with SPH", J. Comput.
 // Phys. 110, 1994; and "Smoothed particle hydrodynamics", Rep. Prog. Phys. 68, 2005):
-// - density by summation, rho_i = sum_j m W(r_ij) (plus the walls' share, from the kernel's
-//   half-space integral), with the cubic spline kernel of Monaghan and Lattanzio (1985);
+// - density by summation, rho_i = sum_j m W(r_ij) (plus the walls' share: from the kernel's
+//   half-space integral, or from wall particles with extrapolated pressure, Adami, Hu and
+//   Adams 2012, wall_particles.hpp), with the cubic spline kernel of Monaghan and Lattanzio (1985);
 // - Tait's equation of state P = rho0 c0^2 / gamma ((rho / rho0)^gamma - 1) (Monaghan 1994,
 //   with c0 ten times the largest free-fall speed, so density varies about 1%), or the linear
 //   P = c0^2 (rho - rho0);
@@ -26,6 +27,7 @@
 #include "frnn/sim/kernels.hpp"
 #include "particle_solver.hpp"
 #include "solvers.hpp"
+#include "wall_particles.hpp"
 
 namespace frnn::sim {
 namespace detail {
@@ -60,6 +62,7 @@ public:
             c0_ = 10 * std::sqrt(2 * std::max(g, 1e-3) * fluid_height);
         }
         settle_rate_ = 3.14159265358979323846 * c0_ / fluid_height;
+        seed_walls();
     }
     double radius() const override { return 2 * h_; }
     double rest_density() const override { return prm_.rest_density; }
@@ -101,6 +104,11 @@ public:
         std::uint8_t h = 0;
         read_pod(in, h);
         have_acc_ = h != 0;
+    }
+
+    void set_colliders(const std::vector<collider>& colliders) override {
+        base::set_colliders(colliders);
+        seed_walls();
     }
 
 private:
@@ -168,20 +176,46 @@ private:
         return float(p);
     }
 
+    /// Density at which the equation of state gives pressure p >= 0.
+    double density_of(double p) const {
+        const double r0 = prm_.rest_density;
+        if (prm_.eos == sph_params::eos_t::tait) return r0 * std::pow(prm_.gamma * p / (r0 * c0_ * c0_) + 1, 1 / prm_.gamma);
+        return r0 + p / (c0_ * c0_);
+    }
+
+    /// Wall particles for the static colliders (sph.wall_particles), or none.
+    void seed_walls() {
+        if (prm_.wall_particles)
+            walls_.seed(this->scene_, this->colliders_.list(), this->spacing_, 2 * h_, threads_);
+    }
+
     /// Grid, density and pressure, then accelerations, at the current positions.
     void evaluate(profiler& prof, double t) {
         // Leapfrog's next drift reads the background accelerations of this evaluation.
         if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
         else this->rebuild_grid(prof, 2 * h_, acc_);
-        const auto walls = this->colliders_.at(t);
-        const bool use_walls = prm_.wall_density && !walls.empty();
-        const double R = 2 * h_;
+        const bool wall_particles = !walls_.empty();
+        if (wall_particles) walls_.find(this->grid_, std::span<const float>(x_), prof);
+        // Colliders that are not wall particles count by the kernel's integral over them.
+        std::vector<posed_collider> walls;
+        if (prm_.wall_density) {
+            const auto posed = this->colliders_.at(t);
+            for (std::size_t k = 0; k < posed.size(); ++k)
+                if (!walls_.holds(k)) walls.push_back(posed[k]);
+        }
+        const bool use_walls = !walls.empty();
+        const double R = 2 * h_, inv_rho0 = 1 / prm_.rest_density;
         parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
             double rho = w_(0);
             for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
                 float r[D];
                 rho += w_(this->dist(i, *it, r));
             }
+            if (wall_particles)
+                for (auto* it = walls_.begin(i); it != walls_.end(i); ++it) {
+                    float r[D];
+                    rho += w_(walls_.distance(*it, &x_[i * D], r)) * walls_.density(*it) * inv_rho0;
+                }
             rho *= mass_;
             if (use_walls) {
                 vec3 x{0, 0, 0};
@@ -191,6 +225,9 @@ private:
             rho_[i] = float(rho);
             p_[i] = pressure(float(rho));
         });
+        if (wall_particles)
+            walls_.extrapolate(x_.data(), p_.data(), rho_.data(), w_, this->scene_.gravity, threads_, prof,
+                               [&](double p) { return density_of(p); });
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         const bool laminar_viscosity = laminar();
         const double alpha = laminar_viscosity ? 0 : prm_.alpha, nu = laminar_viscosity ? prm_.nu : 0;
@@ -226,6 +263,24 @@ private:
                     for (int a = 0; a < D; ++a) acc[a] += k * double(v_[i * D + a] - v_[j * D + a]);
                 }
             }
+            // Wall particles at rest: the artificial viscosity with v_w = 0 holds the fluid
+            // back along the walls (no slip).
+            if (wall_particles)
+                for (auto* it = walls_.begin(i); it != walls_.end(i); ++it) {
+                    float r[D];  // x_w - x_i
+                    const double len = walls_.distance(*it, &x_[i * D], r);
+                    if (len <= 0 || len >= R) continue;
+                    const double rho_w = walls_.density(*it);
+                    double f = pi_term + walls_.pressure(*it) / (rho_w * rho_w);
+                    double vr = 0;  // v_iw . x_iw
+                    for (int a = 0; a < D; ++a) vr -= double(v_[i * D + a]) * r[a];
+                    if (vr < 0 && alpha > 0) {
+                        const double mu = h * vr / (len * len + 0.01 * h * h);
+                        f += -alpha * c0 * mu / (0.5 * (double(rho_[i]) + rho_w));
+                    }
+                    const double s = m * f * w_.derivative(len) / len;
+                    for (int a = 0; a < D; ++a) acc[a] += s * r[a];
+                }
             if (use_walls && p_[i] > 0) {
                 vec3 x{0, 0, 0};
                 for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
@@ -250,6 +305,7 @@ private:
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
     bool have_acc_ = false;
+    wall_particles<D> walls_;  // sph.wall_particles
 };
 
 }  // namespace

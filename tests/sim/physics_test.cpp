@@ -171,3 +171,73 @@ TEST(SimPhysics, SettleTimeDampsATankTowardsRest) {
     EXPECT_GT(fastest[0], 0.01);  // undamped, the tank does move
     EXPECT_LT(fastest[1], fastest[0] / 3) << fastest[1] << " against " << fastest[0];
 }
+
+namespace {
+
+/// The settled 2D tank of SettleTimeDampsATankTowardsRest, its walls as kernel integrals or
+/// as wall particles: its fastest particle over t in [0.3, 0.4] and its pressure slope over
+/// rho0 g then.
+std::pair<double, double> settled_tank(bool wall_particles) {
+    const std::string text = std::string(R"({"name": "tank", "solver": "sph", "dim": 2, "particles": 400,
+      "domain": {"min": [0, 0, 0], "max": [0.1, 0.2, 0.1]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.1, 0.1, 0.1]}],
+      "colliders": [{"type": "box", "inside": true, "center": [0.05, 0.1, 0.05], "half": [0.05, 0.1, 0.05]}],
+      "sph": {"settle_time": 0.2, "wall_particles": )") + (wall_particles ? "true" : "false") + "}}";
+    auto sol = make_solver(parse_scene(text, "tank"), 2);
+    profiler p;
+    double fastest = 0, slope = 0;
+    int samples = 0;
+    while (sol->time() < 0.4) {
+        sol->step(p);
+        if (sol->time() < 0.3 || sol->steps() % 10) continue;
+        const auto v = sol->view();
+        double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+        for (std::size_t i = 0; i < v.n; ++i) {
+            fastest = std::max(fastest, std::hypot(double(v.v[2 * i]), double(v.v[2 * i + 1])));
+            const double depth = 0.1 - v.x[2 * i + 1];
+            if (depth < 2 * sol->radius()) continue;  // below the free surface's layers
+            sx += depth, sy += v.p[i], sxx += depth * depth, sxy += depth * v.p[i], n += 1;
+        }
+        slope += (n * sxy - sx * sy) / (n * sxx - sx * sx) / (1000 * 9.81);
+        ++samples;
+    }
+    return {fastest, slope / samples};
+}
+
+}  // namespace
+
+// "wall_particles": walls whose pressure is extrapolated from the fluid hold up the water
+// beside them, so the settled tank stays nearer rest than with the kernel integrals' walls
+// (whose missing support drives a circulation down the side walls), with the hydrostatic
+// pressure slope.
+TEST(SimPhysics, WallParticlesKeepASettledTankNearerRest) {
+    const auto [integral_speed, integral_slope] = settled_tank(false);
+    const auto [particle_speed, particle_slope] = settled_tank(true);
+    std::printf("[ tank ] fastest %.4f m/s (wall particles) against %.4f (kernel integrals); slope %.3f against %.3f\n",
+                particle_speed, integral_speed, particle_slope, integral_slope);
+    EXPECT_LT(particle_speed, integral_speed / 2);
+    EXPECT_NEAR(particle_slope, 1.0, 0.05);
+}
+
+TEST(SimPhysics, WallParticlesNeedABoxOfFluidAndNoPeriodicAxis) {
+    const auto fails_with = [](const std::string& text, const std::string& what) {
+        try {
+            make_solver(parse_scene(text, "walls"), 1);
+            ADD_FAILURE() << "no error for " << what;
+        } catch (const frnn::error& e) {
+            EXPECT_NE(std::string(e.what()).find("sph.wall_particles"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    };
+    fails_with(R"({"name": "walls", "solver": "sph", "dim": 2, "particles": 300,
+      "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+      "fluid": [{"type": "sphere", "center": [0.5, 0.5, 0], "radius": 0.2}],
+      "colliders": [{"type": "box", "inside": true, "center": [0.5, 0.5, 0.5], "half": [0.5, 0.5, 0.5]}],
+      "sph": {"wall_particles": true}})",
+               "box");
+    fails_with(R"({"name": "walls", "solver": "sph", "dim": 2, "particles": 300, "periodic": [1, 0],
+      "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1]}],
+      "sph": {"wall_particles": true}})",
+               "periodic");
+}

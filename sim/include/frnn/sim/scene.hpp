@@ -67,6 +67,9 @@ struct sph_params {
     double max_dt = 1e-3;
     bool clamp_negative_pressure = true;
     bool wall_density = true;      ///< boundary integrals of the kernel over the colliders
+    /// Static colliders as layers of wall particles whose pressure is extrapolated from the
+    /// fluid (Adami, Hu and Adams 2012), instead of the kernel integrals (wall_density).
+    bool wall_particles = false;
     /// > 0: particles move with the transport velocity of Adami, Hu and Adams (2013), pushed
     /// by this background pressure [Pa] towards a uniform spacing (0: off). For flows with no
     /// free surface (the background pressure pulls a free surface apart).

@@ -1,0 +1,139 @@
+// Walls as particles (Adami, Hu and Adams, "A generalized wall boundary condition for smoothed
+// particle hydrodynamics", J. Comput. Phys. 231, 2012): the static colliders are filled with
+// particles, on the fluid's lattice continued, as deep as the kernel's support behind their
+// surface. Each step a wall particle takes the pressure its fluid neighbors extrapolate to it,
+// with the hydrostatic rise towards it (their eq. 27, a wall at rest), and the density the
+// equation of state gives for that pressure; the fluid counts them in its density sum and
+// momentum equation as particles at rest. A kernel integral over a wall (sph.cpp) gives a
+// particle beside a side wall its own pressure behind the wall, holding up none of the weight
+// above it; extrapolated pressure does (validation: the hydrostatic tank).
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "frnn/csr.hpp"
+#include "frnn/error.hpp"
+#include "frnn/grid.hpp"
+#include "frnn/sim/colliders.hpp"
+#include "frnn/sim/kernels.hpp"
+#include "frnn/sim/scene.hpp"
+#include "parallel.hpp"
+
+namespace frnn::sim::detail {
+
+template <int D>
+class wall_particles {
+public:
+    /// Fills the colliders that do not move with particles `spacing` apart (per axis, the
+    /// first fluid box's lattice, continued) down to `support` behind their surfaces.
+    void seed(const scene& s, const std::vector<collider>& colliders, double spacing, double support, int threads) {
+        x_.clear();
+        holds_.assign(colliders.size(), 0);
+        if (s.is_periodic()) throw error("sph.wall_particles: not in a periodic domain");
+        if (s.fluid.empty() || s.fluid[0].kind != fluid_block::kind_t::box)
+            throw error("sph.wall_particles: the first fluid block must be a box (its lattice continues into the walls)");
+        std::vector<posed_collider> still;
+        for (std::size_t k = 0; k < colliders.size(); ++k)
+            if (at_rest(colliders[k])) holds_[k] = 1, still.emplace_back(colliders[k], 0.0);
+        const auto& b = s.fluid[0];
+        double step[3] = {1, 1, 1}, first[3] = {0, 0, 0};
+        std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+        for (int a = 0; a < D; ++a) {
+            // As the seeding does: a box of width L holds round(L / spacing) particles per axis.
+            step[a] = (b.max[a] - b.min[a]) / std::max(1.0, std::round((b.max[a] - b.min[a]) / spacing));
+            first[a] = b.min[a] + 0.5 * step[a];
+            lo[a] = std::int64_t(std::floor((s.domain_min[a] - support - first[a]) / step[a]));
+            hi[a] = std::int64_t(std::ceil((s.domain_max[a] + support - first[a]) / step[a]));
+        }
+        for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+            for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+                for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+                    const std::int64_t idx[3] = {i, j, k};
+                    vec3 x{0, 0, 0}, normal;
+                    for (int a = 0; a < D; ++a) x[a] = first[a] + double(idx[a]) * step[a];
+                    double phi = INFINITY;  // distance into the fluid's space
+                    for (const auto& c : still) phi = std::min(phi, c.phi(x, normal));
+                    if (phi > 0 || phi <= -support) continue;
+                    for (int a = 0; a < D; ++a) x_.push_back(float(x[a]));
+                }
+        p_.assign(size(), 0);
+        rho_.assign(size(), float(s.sph.rest_density));
+        if (empty()) return;
+        grid_options o;
+        o.threads = threads;
+        grid_.build(std::span<const float>(x_), float(support), o);
+    }
+
+    bool empty() const { return x_.empty(); }
+    std::size_t size() const { return x_.size() / D; }
+    /// Whether collider k is made of wall particles (it does not move).
+    bool holds(std::size_t k) const { return k < holds_.size() && holds_[k]; }
+
+    /// This step's neighbors: of each fluid particle among the walls, and of each wall
+    /// particle among the fluid (by sorted index of `fluid`, the positions x).
+    void find(const grid<float, D>& fluid, std::span<const float> x, profiler& prof) {
+        serial(prof, stage::neighbors, [&] {
+            fluid_walls_ = grid_.query(x);
+            list_options o;
+            o.space = index_space::sorted;
+            wall_fluids_ = fluid.query(std::span<const float>(x_), o);
+        });
+    }
+
+    /// Wall neighbors of fluid particle i: [begin, end).
+    const std::uint32_t* begin(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i]; }
+    const std::uint32_t* end(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i + 1]; }
+
+    /// |x_w - x_i| for wall particle w and the point at x; r receives x_w - x.
+    double distance(std::size_t w, const float* x, float* r) const {
+        double d2 = 0;
+        for (int a = 0; a < D; ++a) {
+            r[a] = x_[w * D + a] - x[a];
+            d2 += double(r[a]) * r[a];
+        }
+        return std::sqrt(d2);
+    }
+
+    /// p_w = max(0, (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf) over the
+    /// fluid neighbors f (0 without any), and rho_w = density_of(p_w).
+    template <class DensityOf>
+    void extrapolate(const float* x, const float* p, const float* rho, const cubic_spline<D>& w, const vec3& gravity,
+                     int threads, profiler& prof, DensityOf density_of) {
+        parallel_for(size(), threads, prof, stage::density, [&](std::size_t k) {
+            double sum_w = 0, sum_p = 0, rise = 0;
+            for (std::uint64_t n = wall_fluids_.offsets[k]; n < wall_fluids_.offsets[k + 1]; ++n) {
+                const std::size_t f = wall_fluids_.indices[n];
+                float r[D];
+                const double weight = w(distance(k, x + f * D, r));
+                sum_w += weight;
+                sum_p += p[f] * weight;
+                for (int a = 0; a < D; ++a) rise += gravity[a] * rho[f] * double(r[a]) * weight;
+            }
+            const double pressure = sum_w > 0 ? std::max(0.0, (sum_p + rise) / sum_w) : 0;
+            p_[k] = float(pressure);
+            rho_[k] = float(density_of(pressure));
+        });
+    }
+
+    float pressure(std::size_t w) const { return p_[w]; }
+    float density(std::size_t w) const { return rho_[w]; }
+
+private:
+    static bool at_rest(const collider& c) {
+        const motion& m = c.path;
+        for (int a = 0; a < 3; ++a)
+            if (m.velocity[a] != 0 || m.amplitude[a] != 0) return false;
+        return m.angular_velocity == 0;
+    }
+
+    std::vector<float> x_;
+    std::vector<char> holds_;
+    grid<float, D> grid_;
+    std::vector<float> p_, rho_;
+    csr<float> fluid_walls_, wall_fluids_;
+};
+
+}  // namespace frnn::sim::detail
