@@ -80,7 +80,7 @@ TEST(SimPhysics, DamBreakFrontFollowsMartinMoyce) {
     ASSERT_EQ(r.front_errors.size(), martin_moyce().size());
     for (std::size_t k = 0; k < martin_moyce().size(); ++k) {
         EXPECT_EQ(front_error(r.front, martin_moyce()[k]), r.front_errors[k]);
-        EXPECT_LT(r.front_errors[k], 0.2) << "a = " << martin_moyce()[k].a_inches << " in";
+        EXPECT_LT(r.front_errors[k], 0.07) << "a = " << martin_moyce()[k].a_inches << " in";
     }
 }
 
