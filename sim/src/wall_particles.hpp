@@ -99,8 +99,8 @@ public:
 
     /// p_w = max(0, (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf) over the
     /// fluid neighbors f (0 without any), and rho_w = density_of(p_w).
-    template <class DensityOf>
-    void extrapolate(const float* x, const float* p, const float* rho, const cubic_spline<D>& w, const vec3& gravity,
+    template <class Kernel, class DensityOf>
+    void extrapolate(const float* x, const float* p, const float* rho, const Kernel& w, const vec3& gravity,
                      int threads, profiler& prof, DensityOf density_of) {
         parallel_for(size(), threads, prof, stage::density, [&](std::size_t k) {
             double sum_w = 0, sum_p = 0, rise = 0;
