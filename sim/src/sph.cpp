@@ -186,7 +186,7 @@ private:
     /// Wall particles for the static colliders (sph.wall_particles), or none.
     void seed_walls() {
         if (prm_.wall_particles)
-            walls_.seed(this->scene_, this->colliders_.list(), this->spacing_, 2 * h_, threads_);
+            walls_.seed(this->scene_, this->colliders_.list(), this->spacing_, 2 * h_, threads_, n_);
     }
 
     /// Grid, density and pressure, then accelerations, at the current positions.

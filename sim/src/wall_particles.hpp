@@ -28,8 +28,10 @@ template <int D>
 class wall_particles {
 public:
     /// Fills the colliders that do not move with particles `spacing` apart (per axis, the
-    /// first fluid box's lattice, continued) down to `support` behind their surfaces.
-    void seed(const scene& s, const std::vector<collider>& colliders, double spacing, double support, int threads) {
+    /// first fluid box's lattice, continued) down to `support` behind their surfaces, for a
+    /// fluid of `fluid` particles (which bounds the lattice searched, see below).
+    void seed(const scene& s, const std::vector<collider>& colliders, double spacing, double support, int threads,
+              std::size_t fluid) {
         x_.clear();
         holds_.assign(colliders.size(), 0);
         if (s.is_periodic()) throw error("sph.wall_particles: not in a periodic domain");
@@ -48,6 +50,16 @@ public:
             lo[a] = std::int64_t(std::floor((s.domain_min[a] - support - first[a]) / step[a]));
             hi[a] = std::int64_t(std::ceil((s.domain_max[a] + support - first[a]) / step[a]));
         }
+        // The lattice over the domain is searched for points in the walls: bounded, so that a
+        // domain far larger than its fluid is an error, not an hour of seeding.
+        double points = 1;
+        for (int a = 0; a < D; ++a) points *= double(hi[a] - lo[a] + 1);
+        const double most = 64.0 * double(fluid) + double(1 << 20);
+        if (points > most)
+            throw error("sph.wall_particles: the domain and the kernel's support around it hold " +
+                        std::to_string(std::llround(points)) + " lattice points at spacing " + std::to_string(spacing) +
+                        ", more than " + std::to_string(std::llround(most)) +
+                        " (64 per fluid particle, plus 2^20): shrink the domain or turn wall_particles off");
         for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
             for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
                 for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
@@ -73,13 +85,24 @@ public:
     bool holds(std::size_t k) const { return k < holds_.size() && holds_[k]; }
 
     /// This step's neighbors: of each fluid particle among the walls, and of each wall
-    /// particle among the fluid (by sorted index of `fluid`, the positions x).
+    /// particle that has any among the fluid (by sorted index of `fluid`, the positions x).
     void find(const grid<float, D>& fluid, std::span<const float> x, profiler& prof) {
         serial(prof, stage::neighbors, [&] {
             fluid_walls_ = grid_.query(x);
+            // Most wall particles lie far from the fluid (4 per fluid particle in the 3D dam
+            // break): only those near it take part.
+            near_.assign(size(), 0);
+            for (const std::uint32_t w : fluid_walls_.indices) near_[w] = 1;
+            active_.clear();
+            active_x_.clear();
+            for (std::size_t w = 0; w < size(); ++w)
+                if (near_[w]) {
+                    active_.push_back(std::uint32_t(w));
+                    active_x_.insert(active_x_.end(), x_.begin() + std::ptrdiff_t(w * D), x_.begin() + std::ptrdiff_t(w * D + D));
+                }
             list_options o;
             o.space = index_space::sorted;
-            wall_fluids_ = fluid.query(std::span<const float>(x_), o);
+            wall_fluids_ = fluid.query(std::span<const float>(active_x_), o);
         });
     }
 
@@ -98,20 +121,24 @@ public:
     }
 
     /// p_w = max(0, (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf) over the
-    /// fluid neighbors f (0 without any), and rho_w = density_of(p_w).
+    /// fluid neighbors f, and rho_w = density_of(p_w), for the wall particles near the fluid
+    /// (the others keep theirs: no fluid particle sees them).
     template <class Kernel, class DensityOf>
     void extrapolate(const float* x, const float* p, const float* rho, const Kernel& w, const vec3& gravity,
                      int threads, profiler& prof, DensityOf density_of) {
-        parallel_for(size(), threads, prof, stage::density, [&](std::size_t k) {
+        parallel_for(active_.size(), threads, prof, stage::density, [&](std::size_t n) {
+            const std::size_t k = active_[n];
             double sum_w = 0, sum_p = 0, rise = 0;
-            for (std::uint64_t n = wall_fluids_.offsets[k]; n < wall_fluids_.offsets[k + 1]; ++n) {
-                const std::size_t f = wall_fluids_.indices[n];
+            for (std::uint64_t e = wall_fluids_.offsets[n]; e < wall_fluids_.offsets[n + 1]; ++e) {
+                const std::size_t f = wall_fluids_.indices[e];
                 float r[D];
                 const double weight = w(distance(k, x + f * D, r));
                 sum_w += weight;
                 sum_p += p[f] * weight;
                 for (int a = 0; a < D; ++a) rise += gravity[a] * rho[f] * double(r[a]) * weight;
             }
+            // Near by the wall grid's reach, a wall particle may still find no fluid within the
+            // fluid grid's (the two round alike, but need not): pressure 0 then.
             const double pressure = sum_w > 0 ? std::max(0.0, (sum_p + rise) / sum_w) : 0;
             p_[k] = float(pressure);
             rho_[k] = float(density_of(pressure));
@@ -134,6 +161,9 @@ private:
     grid<float, D> grid_;
     std::vector<float> p_, rho_;
     csr<float> fluid_walls_, wall_fluids_;
+    std::vector<char> near_;          ///< this step: wall particle w has a fluid neighbor
+    std::vector<std::uint32_t> active_;  ///< those wall particles; wall_fluids_'s rows
+    std::vector<float> active_x_;
 };
 
 }  // namespace frnn::sim::detail

@@ -219,7 +219,7 @@ TEST(SimPhysics, WallParticlesKeepASettledTankNearerRest) {
     EXPECT_NEAR(particle_slope, 1.0, 0.05);
 }
 
-TEST(SimPhysics, WallParticlesNeedABoxOfFluidAndNoPeriodicAxis) {
+TEST(SimPhysics, WallParticlesNeedABoxOfFluidNoPeriodicAxisAndABoundedDomain) {
     const auto fails_with = [](const std::string& text, const std::string& what) {
         try {
             make_solver(parse_scene(text, "walls"), 1);
@@ -240,4 +240,11 @@ TEST(SimPhysics, WallParticlesNeedABoxOfFluidAndNoPeriodicAxis) {
       "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1]}],
       "sph": {"wall_particles": true}})",
                "periodic");
+    // 2,000 particles in a domain of 10^9 lattice points: an error, not minutes of seeding.
+    fails_with(R"({"name": "walls", "solver": "sph", "dim": 3, "particles": 2000,
+      "domain": {"min": [0, 0, 0], "max": [100, 100, 100]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
+      "colliders": [{"type": "box", "inside": true, "center": [50, 50, 50], "half": [50, 50, 50]}],
+      "sph": {"wall_particles": true}})",
+               "lattice points");
 }
