@@ -45,6 +45,16 @@ inline lanes select(lane_mask m, lanes a) {
     return a;
 }
 
+/// a where the mask is set, else b.
+inline lanes blend(lane_mask m, lanes a, lanes b) {
+    lane_mask bits_a, bits_b;
+    std::memcpy(&bits_a, &a, sizeof a);
+    std::memcpy(&bits_b, &b, sizeof b);
+    bits_a = (bits_a & m) | (bits_b & ~m);
+    std::memcpy(&a, &bits_a, sizeof a);
+    return a;
+}
+
 /// The lanes' sum, always in the same order.
 inline float sum_lanes(lanes v) { return ((v[0] + v[4]) + (v[2] + v[6])) + ((v[1] + v[5]) + (v[3] + v[7])); }
 
@@ -117,8 +127,11 @@ template <int D, class F>
             if (box && box[a] > 0) b.r[a] = minimum_image(b.r[a], box[a]);
             b.r2 += b.r[a] * b.r[a];
         }
-        if (valid < lane_count)
-            for (std::size_t l = valid; l < lane_count; ++l) b.r[0][l] = far, b.r2[l] = far * far;
+        if (valid < lane_count) {
+            const lane_mask in_list = lane_mask{0, 1, 2, 3, 4, 5, 6, 7} < int(valid);
+            b.r[0] = blend(in_list, b.r[0], lanes{} + far);
+            b.r2 = blend(in_list, b.r2, lanes{} + far * far);
+        }
         f(b);
     }
 }
