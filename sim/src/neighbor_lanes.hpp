@@ -6,9 +6,11 @@
 // list alone, never on the thread count, the loop's split or the instruction-set level (no
 // fused multiply-add; square root and division are correctly rounded on every level).
 //
-// Included once per level by pair_passes_impl.hpp, inside namespace FRNN_SIM_NS, after every
-// other header (so nothing else is compiled for the level). FRNN_SIM_AVX2 selects the AVX2
-// loads.
+// Included once per level by viscoelastic_pairs_impl.hpp, which opens namespace FRNN_SIM_NS
+// after every other header (the level's source file includes <cmath>, <cstring> and
+// <immintrin.h> first, so nothing else is compiled for the level). FRNN_SIM_AVX2 selects the
+// AVX2 loads.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
