@@ -10,6 +10,7 @@
 
 #include "particle_solver.hpp"
 #include "solvers.hpp"
+#include "viscoelastic_pairs.hpp"
 
 namespace frnn::sim {
 namespace detail {
@@ -31,7 +32,9 @@ public:
         rho0_ = prm_.rest_density > 0 ? prm_.rest_density : lattice_density();
         prev_.resize(n_ * D);
         buf_.resize(n_ * D);
+        v_buf_.resize(n_ * D);
         near_.resize(n_);
+        pairs_ = viscoelastic_pairs_for<D>();
         if (prm_.springs) springs_.resize(n_), slot_of_id_.resize(n_);
     }
     double radius() const override { return h_; }
@@ -57,10 +60,7 @@ public:
         this->rebuild_grid(prof, h_, prev_);
         if (prm_.sigma > 0 || prm_.beta > 0) viscosity(prof, dt);
         if (prm_.springs) springs(prof, dt);
-        relax(prof);
-        parallel_for(n_, threads_, prof, stage::integration, [&](std::size_t i) {
-            for (int a = 0; a < D; ++a) v_[i * D + a] = (x_[i * D + a] - prev_[i * D + a]) / dt;
-        }, min_parallel_light);
+        relax(prof, dt);
         this->collide(prof, this->time_ + step_dt);
         this->time_ += step_dt;
         this->last_dt_ = step_dt;
@@ -127,40 +127,25 @@ private:
         return sum;
     }
 
-    /// Calls f(j, x_j - x_i, 1 / distance, q) for the neighbors j closer than h (the lists are
-    /// from the predicted positions; the positions may have moved since).
-    template <class F>
-    void for_each_close(std::size_t i, F&& f) const {
-        const float h = float(h_), inv_h = 1 / h;
-        for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
-            float r[D];
-            const float len = this->dist(i, *it, r);
-            if (len < h && len > 0) f(std::size_t(*it), r, 1 / len, len * inv_h);
-        }
-    }
-
     /// Algorithm 5: for each approaching pair (u = (v_i - v_j) . r_hat > 0) the impulse
     /// I = dt (1 - q) (sigma u + beta u^2) r_hat, half to each side: linear (sigma) and
     /// quadratic (beta) viscosity.
     void viscosity(profiler& prof, float dt) {
-        const float sigma = float(prm_.sigma), beta = float(prm_.beta);
+        const viscosity_coefficients c{dt, float(prm_.sigma), float(prm_.beta)};
+        const pair_view view = pair_arrays();
+        // Each particle writes only its own new velocity and re-predicted position, so the
+        // re-prediction x = x_prev + dt v shares the loop.
         parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
-            float dv[D] = {};
-            for_each_close(i, [&](std::size_t j, const float* r, float inv_len, float q) {
-                float u = 0;
-                for (int a = 0; a < D; ++a) u += (v_[i * D + a] - v_[j * D + a]) * r[a];
-                // Only approaching pairs (u > 0) feel the impulse; branch-free, as u's sign is
-                // unpredictable.
-                u = std::max(0.f, u * inv_len);
-                const float imp = 0.5f * dt * (1 - q) * (sigma * u + beta * u * u) * inv_len;
-                for (int a = 0; a < D; ++a) dv[a] -= imp * r[a];
-            });
-            for (int a = 0; a < D; ++a) buf_[i * D + a] = v_[i * D + a] + dv[a];
+            float dv[D];
+            pairs_.viscosity(view, row(i), c, dv);
+            for (int a = 0; a < D; ++a) {
+                const std::size_t k = i * D + a;
+                v_buf_[k] = v_[k] + dv[a];
+                buf_[k] = prev_[k] + dt * v_buf_[k];
+            }
         });
-        v_.swap(buf_);
-        parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
-            for (int a = 0; a < D; ++a) x_[i * D + a] = prev_[i * D + a] + dt * v_[i * D + a];
-        }, min_parallel_light);
+        v_.swap(v_buf_);
+        x_.swap(buf_);
     }
 
     /// Algorithms 3 and 4: springs between neighbors closer than h, rest length L; beyond the
@@ -214,40 +199,40 @@ private:
     /// dimensionless, divided by rho0, and a displacement is in units of h in place of dt^2
     /// (the scene's stiffnesses absorb the scale): each side moves by
     /// h/2 ((P_i + P_j)(1 - q) + (N_i + N_j)(1 - q)^2) r_hat, N the near pressures.
-    void relax(profiler& prof) {
-        const float h = float(h_), rho0 = float(rho0_);
-        const float k = float(prm_.stiffness), kn = float(prm_.near_stiffness);
+    /// The second pass also sets the velocities from the displacement, (x - x_prev) / dt.
+    void relax(profiler& prof, float dt) {
+        const float rho0 = float(rho0_), k = float(prm_.stiffness), kn = float(prm_.near_stiffness);
+        const pair_view view = pair_arrays();
         parallel_for(n_, threads_, prof, stage::relaxation, [&](std::size_t i) {
-            float rho = 0, rhon = 0;
-            const float inv_h = 1 / h;
-            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
-                float r[D];
-                const float q = this->dist(i, *it, r) * inv_h;
-                if (q >= 1) continue;
-                const float w = (1 - q) * (1 - q);
-                rho += w;
-                rhon += w * (1 - q);
-            }
+            float rho = 0, rho_near = 0;
+            pairs_.density(view, row(i), &rho, &rho_near);
             rho_[i] = rho / rho0;             // relative density: 1 at rest
             p_[i] = k * (rho - rho0) / rho0;  // pressure, in units of h per unit (1 - q)
-            near_[i] = kn * rhon / rho0;
+            near_[i] = kn * rho_near / rho0;
         });
         parallel_for(n_, threads_, prof, stage::relaxation, [&](std::size_t i) {
-            float dx[D] = {};
-            for_each_close(i, [&](std::size_t j, const float* r, float inv_len, float q) {
-                const float mag = 0.5f * h * ((p_[i] + p_[j]) * (1 - q) + (near_[i] + near_[j]) * (1 - q) * (1 - q)) * inv_len;
-                for (int a = 0; a < D; ++a) dx[a] -= mag * r[a];
-            });
-            for (int a = 0; a < D; ++a) buf_[i * D + a] = x_[i * D + a] + dx[a];
+            float dx[D];
+            pairs_.displacement(view, row(i), dx);
+            for (int a = 0; a < D; ++a) {
+                const std::size_t c = i * D + a;
+                buf_[c] = x_[c] + dx[a];
+                v_[c] = (buf_[c] - prev_[c]) / dt;
+            }
         });
         x_.swap(buf_);
     }
 
+    pair_view pair_arrays() const {
+        return {x_.data(), v_.data(), p_.data(), near_.data(), this->periodic_ ? this->box_ : nullptr, float(h_)};
+    }
+    pair_row row(std::size_t i) const { return {i, neighbors_.begin(i), neighbors_.end(i)}; }
+
     viscoelastic_params prm_;
     double h_ = 0, rho0_ = 0;
-    std::vector<float> prev_, buf_, near_;
+    std::vector<float> prev_, buf_, v_buf_, near_;
     std::vector<std::vector<spring>> springs_;  // by particle id
     std::vector<std::uint32_t> slot_of_id_;
+    viscoelastic_pair_kernels<D> pairs_{};
 };
 
 }  // namespace
