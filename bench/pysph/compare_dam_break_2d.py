@@ -15,6 +15,7 @@ and run this script with the Python that imports it (/usr/bin/python3 on Debian)
 """
 import argparse
 import csv
+import json
 import math
 import os
 import re
@@ -63,16 +64,18 @@ def front_error(front, points):
 
 
 def run_frnn(binary, threads, out):
-    """(ns per particle per step, [front errors]) of one frnn run; frames off, so the wall
-    time is the stepping (and the front record) alone."""
+    """(ns per particle per step, fluid particles, wall particles, steps, [front errors]) of one
+    frnn run, its wall particles counted as PySPH's are; frames off, so the wall time is the
+    stepping (and the front record) alone."""
     text = subprocess.run([binary, "sim", SCENE, "--threads", str(threads), "--quiet", "--every", "1000000000",
                            "--out", out], check=True, capture_output=True, text=True).stdout
-    m = re.search(r"(\d+) particles, .*?, (\d+) steps, [\d.]+ s simulated in ([\d.]+) s", text)
-    if not m:
-        raise RuntimeError("unexpected frnn output:\n" + text)
-    particles, steps, wall = int(m.group(1)), int(m.group(2)), float(m.group(3))
+    # summary.json's wall time, unrounded (the printed one has 2 decimals: 0.5% here).
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    particles, steps, wall = summary["particles"], summary["steps"], summary["wall_seconds"]
+    wall_particles = summary.get("wall_particles", 0)
     errors = [float(e) / 100 for e in re.findall(r"([\d.]+)% \(a = ", text)]
-    return 1e9 * wall / steps / particles, particles, steps, errors
+    return 1e9 * wall / steps / (particles + wall_particles), particles, wall_particles, steps, errors
 
 
 def pysph_importable():
@@ -124,7 +127,7 @@ def main():
     try:
         frnn_ns, pysph_ns = [], []
         for r in range(a.runs):
-            ns, particles, steps, frnn_errors = run_frnn(a.frnn, a.threads, os.path.join(work, "frnn%d" % r))
+            ns, particles, frnn_walls, steps, frnn_errors = run_frnn(a.frnn, a.threads, os.path.join(work, "frnn%d" % r))
             frnn_ns.append(ns)
             if have_pysph:
                 ns_p, pysph_particles, pysph_fluid, pysph_steps = run_pysph(a.threads, os.path.join(work, "pysph%d" % r), False)
@@ -132,9 +135,12 @@ def main():
         series = martin_moyce()
         names = ", ".join("a = %g in" % k for k in series)
         print("2D WCSPH dam break (PySPH's dam_break_2d), %d threads, median of %d runs:" % (a.threads, a.runs))
-        print("  frnn:  %7.1f ns per particle per step (%d particles, %d steps); surge-front error %s: %s"
-              % (statistics.median(frnn_ns), particles, steps, names,
-                 ", ".join("%.1f%%" % (100 * e) for e in frnn_errors)))
+        frnn_m = statistics.median(frnn_ns)
+        frnn_per_fluid = frnn_m * (particles + frnn_walls) / particles
+        print("  frnn:  %7.1f ns per particle per step (%d particles: %d fluid and %d wall particles; %d steps); "
+              "surge-front error %s: %s" % (frnn_m, particles + frnn_walls, particles, frnn_walls, steps, names,
+                                             ", ".join("%.1f%%" % (100 * e) for e in frnn_errors)))
+        print("  frnn per fluid particle: %.1f ns per step" % frnn_per_fluid)
         if have_pysph:
             front = run_pysph(a.threads, os.path.join(work, "pysph-front"), True)
             errors = [front_error(front, pts) for pts in series.values()]
@@ -144,7 +150,7 @@ def main():
                                                  ", ".join("%.1f%%" % (100 * e) for e in errors)))
             print("  PySPH per fluid particle: %.1f ns per step" % (m * pysph_particles / pysph_fluid))
             print("  frnn is %.2fx faster per particle per step (%.2fx per fluid particle)"
-                  % (m / statistics.median(frnn_ns), m * pysph_particles / pysph_fluid / statistics.median(frnn_ns)))
+                  % (m / frnn_m, m * pysph_particles / pysph_fluid / frnn_per_fluid))
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

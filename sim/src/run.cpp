@@ -142,6 +142,7 @@ run_result result_of(solver& sol, profiler& prof, const run_state& st, const std
     res.out_dir = dir;
     res.steps = sol.steps();
     res.particles = sol.view().n;
+    res.wall_particles = sol.wall_particle_count();
     res.frames = st.frames.size();
     res.sim_time = sol.time();
     res.wall_seconds = wall;
@@ -169,6 +170,7 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
     summary["solver"] = to_string(sc.solver);
     summary["dim"] = sc.dim;
     summary["particles"] = res.particles;
+    summary["wall_particles"] = res.wall_particles;
     summary["steps"] = res.steps;
     summary["steps_this_run"] = this_run;
     summary["simulated_seconds"] = res.sim_time;
@@ -215,6 +217,7 @@ void print_report(const scene& sc, profiler& prof, const run_result& res, const 
     std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),
                 res.particles, to_string(sc.solver).c_str(), sc.dim, (unsigned long long)res.steps, res.sim_time,
                 res.wall_seconds, threads);
+    if (res.wall_particles > 0) std::printf("walls: %zu wall particles\n", res.wall_particles);
     if (opt.load.set) std::printf("%s", load_line(prof, opt.load).c_str());
     std::printf("%s", prof.table(bool(opt.load.set)).c_str());
     if (!res.front_errors.empty()) {

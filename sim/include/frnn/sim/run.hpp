@@ -43,6 +43,7 @@ struct run_result {
     std::string out_dir;
     std::uint64_t steps = 0;      ///< total steps of the simulation
     std::size_t particles = 0;
+    std::size_t wall_particles = 0;  ///< solver::wall_particle_count
     std::size_t frames = 0;
     double sim_time = 0, wall_seconds = 0, step_ms = 0;
     std::vector<std::pair<std::string, double>> stage_ms;  ///< mean ms per step by stage

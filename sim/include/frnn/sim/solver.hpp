@@ -69,6 +69,8 @@ public:
     /// The cells of the grid the last step searched (frnn/grid_geometry.hpp), so a viewer can
     /// draw what the search visits; a default value (no slots) before the first step.
     virtual const grid_geometry<float>& geometry() const = 0;
+    /// Wall particles standing in for colliders (WCSPH's wall_particles); 0 for none.
+    virtual std::size_t wall_particle_count() const { return 0; }
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.
