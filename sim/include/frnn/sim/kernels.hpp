@@ -21,9 +21,10 @@ public:
     double operator()(double r) const {
         const double q = r / R_;
         if (q >= 1) return 0;
-        if (q <= 0.5) return norm_ * (6 * (q * q * q - q * q) + 1);
+        // Both pieces and a select, as in derivative.
         const double t = 1 - q;
-        return norm_ * 2 * t * t * t;
+        const double inner = norm_ * (6 * (q * q * q - q * q) + 1), outer = norm_ * 2 * t * t * t;
+        return q <= 0.5 ? inner : outer;
     }
     /// dW/dr (<= 0).
     double derivative(double r) const {
