@@ -41,25 +41,27 @@ public:
         for (std::size_t k = 0; k < colliders.size(); ++k)
             if (at_rest(colliders[k])) holds_[k] = 1, still.emplace_back(colliders[k], 0.0);
         const auto& b = s.fluid[0];
-        double step[3] = {1, 1, 1}, first[3] = {0, 0, 0};
-        std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+        double step[3] = {1, 1, 1}, first[3] = {0, 0, 0}, lo_index[3] = {0, 0, 0}, hi_index[3] = {0, 0, 0};
         for (int a = 0; a < D; ++a) {
             // As the seeding does: a box of width L holds round(L / spacing) particles per axis.
             step[a] = (b.max[a] - b.min[a]) / std::max(1.0, std::round((b.max[a] - b.min[a]) / spacing));
             first[a] = b.min[a] + 0.5 * step[a];
-            lo[a] = std::int64_t(std::floor((s.domain_min[a] - support - first[a]) / step[a]));
-            hi[a] = std::int64_t(std::ceil((s.domain_max[a] + support - first[a]) / step[a]));
+            lo_index[a] = std::floor((s.domain_min[a] - support - first[a]) / step[a]);
+            hi_index[a] = std::ceil((s.domain_max[a] + support - first[a]) / step[a]);
         }
         // The lattice over the domain is searched for points in the walls: bounded, so that a
         // domain far larger than its fluid is an error, not an hour of seeding.
+        // Counted in double: a vast domain's indices need not fit an integer.
         double points = 1;
-        for (int a = 0; a < D; ++a) points *= double(hi[a] - lo[a] + 1);
+        for (int a = 0; a < D; ++a) points *= hi_index[a] - lo_index[a] + 1;
         const double most = 64.0 * double(fluid) + double(1 << 20);
         if (points > most)
             throw error("sph.wall_particles: the domain and the kernel's support around it hold " +
-                        std::to_string(std::llround(points)) + " lattice points at spacing " + std::to_string(spacing) +
+                        std::to_string(points) + " lattice points at spacing " + std::to_string(spacing) +
                         ", more than " + std::to_string(std::llround(most)) +
                         " (64 per fluid particle, plus 2^20): shrink the domain or turn wall_particles off");
+        std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+        for (int a = 0; a < D; ++a) lo[a] = std::int64_t(lo_index[a]), hi[a] = std::int64_t(hi_index[a]);
         for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
             for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
                 for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {

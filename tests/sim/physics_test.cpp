@@ -247,4 +247,10 @@ TEST(SimPhysics, WallParticlesNeedABoxOfFluidNoPeriodicAxisAndABoundedDomain) {
       "colliders": [{"type": "box", "inside": true, "center": [50, 50, 50], "half": [50, 50, 50]}],
       "sph": {"wall_particles": true}})",
                "lattice points");
+    // Lattice indices beyond any integer: still the same error.
+    fails_with(R"({"name": "walls", "solver": "sph", "dim": 2, "particles": 300,
+      "domain": {"min": [0, 0, 0], "max": [1e30, 1, 1]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1]}],
+      "sph": {"wall_particles": true}})",
+               "lattice points");
 }
