@@ -232,7 +232,7 @@ private:
         if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
         else this->rebuild_grid(prof, 2 * h_, acc_);
         const bool wall_particles = !walls_.empty();
-        if (wall_particles) walls_.find(this->grid_, std::span<const float>(x_), prof);
+        if (wall_particles) walls_.find(std::span<const float>(x_), prof);
         // Colliders that are not wall particles count by the kernel's integral over them.
         std::vector<posed_collider> walls;
         if (prm_.wall_density) {

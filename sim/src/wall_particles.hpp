@@ -86,25 +86,14 @@ public:
     /// Whether collider k is made of wall particles (it does not move).
     bool holds(std::size_t k) const { return k < holds_.size() && holds_[k]; }
 
-    /// This step's neighbors: of each fluid particle among the walls, and of each wall
-    /// particle that has any among the fluid (by sorted index of `fluid`, the positions x).
-    void find(const grid<float, D>& fluid, std::span<const float> x, profiler& prof) {
+    /// This step's neighbors: of each fluid particle (the positions x, in the solver's order)
+    /// among the walls, by one query of the wall grid; and of each wall particle that has any,
+    /// the same pairs transposed. (A query of the fluid grid by those wall particles found the
+    /// same rows, as both grids square the same float radius, at twice the cost.)
+    void find(std::span<const float> x, profiler& prof) {
         serial(prof, stage::neighbors, [&] {
             fluid_walls_ = grid_.query(x);
-            // Most wall particles lie far from the fluid (4 per fluid particle in the 3D dam
-            // break): only those near it take part.
-            near_.assign(size(), 0);
-            for (const std::uint32_t w : fluid_walls_.indices) near_[w] = 1;
-            active_.clear();
-            active_x_.clear();
-            for (std::size_t w = 0; w < size(); ++w)
-                if (near_[w]) {
-                    active_.push_back(std::uint32_t(w));
-                    active_x_.insert(active_x_.end(), x_.begin() + std::ptrdiff_t(w * D), x_.begin() + std::ptrdiff_t(w * D + D));
-                }
-            list_options o;
-            o.space = index_space::sorted;
-            wall_fluids_ = fluid.query(std::span<const float>(active_x_), o);
+            transpose();
         });
     }
 
@@ -131,16 +120,15 @@ public:
         parallel_for(active_.size(), threads, prof, stage::density, [&](std::size_t n) {
             const std::size_t k = active_[n];
             double sum_w = 0, sum_p = 0, rise = 0;
-            for (std::uint64_t e = wall_fluids_.offsets[n]; e < wall_fluids_.offsets[n + 1]; ++e) {
-                const std::size_t f = wall_fluids_.indices[e];
+            for (std::uint64_t e = wall_fluid_offsets_[n]; e < wall_fluid_offsets_[n + 1]; ++e) {
+                const std::size_t f = wall_fluid_indices_[e];
                 float r[D];
                 const double weight = w(distance(k, x + f * D, r));
                 sum_w += weight;
                 sum_p += p[f] * weight;
                 for (int a = 0; a < D; ++a) rise += gravity[a] * rho[f] * double(r[a]) * weight;
             }
-            // Near by the wall grid's reach, a wall particle may still find no fluid within the
-            // fluid grid's (the two round alike, but need not): pressure 0 then.
+            // A fluid neighbor exactly at the support weighs 0: pressure 0 when it is the only one.
             const double pressure = sum_w > 0 ? std::max(0.0, (sum_p + rise) / sum_w) : 0;
             p_[k] = float(pressure);
             rho_[k] = float(density_of(pressure));
@@ -151,6 +139,27 @@ public:
     float density(std::size_t w) const { return rho_[w]; }
 
 private:
+    /// The wall particles in fluid_walls_ (active_, ascending) and their rows of fluid
+    /// neighbors, each in ascending fluid index: a counting sort of the pairs by wall.
+    void transpose() {
+        const auto& off = fluid_walls_.offsets;
+        const auto& walls = fluid_walls_.indices;
+        row_of_.assign(size(), 0);
+        for (const std::uint32_t w : walls) ++row_of_[w];  // first the count of each wall's row
+        active_.clear();
+        wall_fluid_offsets_.assign(1, 0);
+        for (std::size_t w = 0; w < size(); ++w)
+            if (row_of_[w]) {
+                wall_fluid_offsets_.push_back(wall_fluid_offsets_.back() + row_of_[w]);
+                row_of_[w] = std::uint32_t(active_.size());
+                active_.push_back(std::uint32_t(w));
+            }
+        next_.assign(wall_fluid_offsets_.begin(), wall_fluid_offsets_.end() - 1);
+        wall_fluid_indices_.resize(walls.size());
+        for (std::size_t f = 0; f + 1 < off.size(); ++f)
+            for (std::uint64_t e = off[f]; e < off[f + 1]; ++e) wall_fluid_indices_[next_[row_of_[walls[e]]]++] = std::uint32_t(f);
+    }
+
     static bool at_rest(const collider& c) {
         const motion& m = c.path;
         for (int a = 0; a < 3; ++a)
@@ -162,10 +171,11 @@ private:
     std::vector<char> holds_;
     grid<float, D> grid_;
     std::vector<float> p_, rho_;
-    csr<float> fluid_walls_, wall_fluids_;
-    std::vector<char> near_;          ///< this step: wall particle w has a fluid neighbor
-    std::vector<std::uint32_t> active_;  ///< those wall particles; wall_fluids_'s rows
-    std::vector<float> active_x_;
+    csr<float> fluid_walls_;
+    std::vector<std::uint32_t> row_of_;  ///< per wall particle: its row among active_
+    std::vector<std::uint32_t> active_;  ///< this step's wall particles with a fluid neighbor
+    std::vector<std::uint64_t> wall_fluid_offsets_, next_;  ///< rows of active_, and a cursor per row
+    std::vector<std::uint32_t> wall_fluid_indices_;         ///< their fluid neighbors
 };
 
 }  // namespace frnn::sim::detail
