@@ -193,9 +193,10 @@ TEST(SimSolvers, ViscoelasticStepsTheCflShortensStayStableAtFinerSpacing) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "12,800 particles for 0.3 s: the release tree's check; the sanitizer tree runs the solver elsewhere";
 #endif
-    // The shipped 2D dam break at 4 times its particles: the CFL shortens steps from the 3rd
-    // on. A shortened step must displace less (the stiffnesses hold the scene's dt^2), or
-    // particles speed up, the next step is shorter still, and the run ran away at step 30.
+    // The shipped 2D dam break at 4 times its particles, whose steps the CFL shortens to less
+    // than half the scene's dt. A shortened step must displace less (the stiffnesses hold the
+    // scene's dt^2), or particles speed up, the next step is shorter still, and the run ran
+    // away at step 30.
     auto sol = make_solver(frnn::test::small_scene("dam-break", solver_kind::viscoelastic, 2, 12800), 2);
     profiler p;
     const double free_fall = std::sqrt(2 * 9.81 * 0.5);  // from the column's top to the floor
