@@ -144,7 +144,7 @@ script load_script(const std::string& path) {
     json j;
     try {
         j = json::parse(ss.str());
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
         throw error(path + ": not valid JSON: " + e.what());
     }
     if (!j.is_object() || !j.contains("actions") || !j.at("actions").is_array())

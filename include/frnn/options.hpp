@@ -11,7 +11,8 @@ enum class grid_kind {
     automatic,  ///< uniform when its cell count is reasonable for N (over the points' bulk
                 ///< when at most 1 in 1024 lie far outside it, or any number beyond the
                 ///< hashed grid's keys), hashed otherwise
-    uniform,    ///< dense cells over a bounded box (the points' bounding box or `domain_*`)
+    uniform,    ///< dense cells over a bounded box (the points' bounding box or `domain_*`),
+                ///< at most max(2^24, 64 N) of them (4 bytes each; more throws frnn::error)
     hashed,     ///< cells keyed by integer coordinates in a table sized from N: unbounded domains
 };
 

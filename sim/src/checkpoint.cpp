@@ -43,7 +43,7 @@ void write_string(std::ostream& o, const std::string& s) {
 std::string read_string(std::istream& in) {
     std::uint64_t n = 0;
     read_pod(in, n);
-    if (n > (1u << 30)) throw error("checkpoint: corrupt string length");
+    if (n > bytes_left(in)) throw error("checkpoint: truncated (a string of " + std::to_string(n) + " bytes)");
     std::string s(n, '\0');
     in.read(s.data(), std::streamsize(n));
     if (!in) throw error("checkpoint: truncated");

@@ -148,8 +148,12 @@ std::vector<posed_collider> collider_set::at(double t) const {
 
 void flatten_to_2d(collider& c) {
     c.center[2] = 0;
-    c.normal[2] = 0;
-    c.normal = normalized(c.normal);
+    // Dropping z shortens the normal: back to unit length then, and only then, so that a
+    // flat scene written and read again keeps its normal bit for bit.
+    if (c.normal[2] != 0) {
+        c.normal[2] = 0;
+        c.normal = normalized(c.normal);
+    }
     c.path.velocity[2] = 0;
     c.path.amplitude[2] = 0;
     // In the plane, the only rotation keeping z = 0 is about z.

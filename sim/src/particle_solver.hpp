@@ -27,11 +27,21 @@ void write_vec(std::ostream& o, const std::vector<U>& v) {
     o.write(reinterpret_cast<const char*>(&n), sizeof n);
     o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(n * sizeof(U)));
 }
+/// Bytes from the read position of `in` to its end: a length read from a corrupt file is
+/// checked against it before anything is allocated.
+inline std::uint64_t bytes_left(std::istream& in) {
+    const auto here = in.tellg();
+    in.seekg(0, std::ios::end);
+    const auto end = in.tellg();
+    in.seekg(here);
+    return here < 0 || end < here ? 0 : std::uint64_t(end - here);
+}
 template <class U>
 void read_vec(std::istream& in, std::vector<U>& v, std::size_t expected) {
     std::uint64_t n = 0;
     in.read(reinterpret_cast<char*>(&n), sizeof n);
     if (!in || n != expected) throw error("checkpoint: array of " + std::to_string(n) + " values, expected " + std::to_string(expected));
+    if (n > bytes_left(in) / sizeof(U)) throw error("checkpoint: truncated array");
     v.resize(n);
     in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(U)));
     if (!in) throw error("checkpoint: truncated array");
@@ -225,6 +235,14 @@ protected:
         read_vec(in, rho_, n_);
         read_vec(in, p_, n_);
         read_vec(in, id_, n_);
+        // Ids index arrays (output order, springs): they must be 0 .. n-1, each once.
+        std::vector<bool> seen(n_, false);
+        for (std::size_t i = 0; i < n_; ++i) {
+            if (id_[i] >= n_ || seen[id_[i]])
+                throw error("checkpoint: particle slot " + std::to_string(i) + " holds id " + std::to_string(id_[i]) +
+                            ", not one of 0.." + std::to_string(n_ - 1) + " unused so far");
+            seen[id_[i]] = true;
+        }
     }
 
     /// r = x_j - x_i (the minimum image in a periodic box, the grid's formula); returns |r|.

@@ -210,7 +210,7 @@ scene parse_scene(const std::string& text, const std::string& origin) {
     json j;
     try {
         j = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // a syntax error, or a number beyond double (out_of_range)
         throw error(origin + ": not valid JSON: " + e.what());
     }
     reader r(j, "", origin);
@@ -335,17 +335,45 @@ seeded_particles seed(const scene& s) {
         return d2 <= b.radius * b.radius;
     };
     double volume = 0;
-    for (const auto& b : s.fluid) {
+    for (std::size_t k = 0; k < s.fluid.size(); ++k) {
+        const auto& b = s.fluid[k];
         double v = 1;
-        if (b.kind == fluid_block::kind_t::box)
-            for (int a = 0; a < dim; ++a) v *= b.max[a] - b.min[a];
-        else
+        if (b.kind == fluid_block::kind_t::box) {
+            for (int a = 0; a < dim; ++a) {
+                // The parser checks x and y; z counts once the dimension is known.
+                if (!(b.max[a] > b.min[a]))
+                    throw error("fluid[" + std::to_string(k) + "]: a box needs max > min on every axis (axis " +
+                                std::to_string(a) + ")");
+                v *= b.max[a] - b.min[a];
+            }
+        } else {
             v = dim == 2 ? 3.14159265358979 * b.radius * b.radius : 4.18879020478639 * std::pow(b.radius, 3);
+        }
         volume += v;
     }
     const double spacing = std::pow(volume / double(s.target_particles()), 1.0 / dim);
+    if (!std::isfinite(spacing) || !(spacing > 0))
+        throw error("the fluid's volume " + std::to_string(volume) + " over " + std::to_string(s.target_particles()) +
+                    " particles gives no particle spacing");
     seeded_particles out;
     out.spacing = spacing;
+    // The lattice points visited, bounded before any is: a block far thinner than the spacing on
+    // one axis and far wider on another would otherwise take more points than memory holds.
+    const double most = 8.0 * double(s.target_particles()) + double(1 << 20);
+    double visited = 0;
+    for (std::size_t k = 0; k < s.fluid.size(); ++k) {
+        const auto& b = s.fluid[k];
+        double points = 1;
+        for (int a = 0; a < dim; ++a) {
+            const double width = b.kind == fluid_block::kind_t::box ? b.max[a] - b.min[a] : 2 * b.radius;
+            points *= std::max(1.0, std::round(width / spacing));
+        }
+        visited += points;
+        if (!(visited <= most))
+            throw error("fluid[" + std::to_string(k) + "]: the blocks' lattices at spacing " + std::to_string(spacing) +
+                        " hold " + std::to_string(visited) + " points, more than " + std::to_string(std::llround(most)) +
+                        " (8 per particle, plus 2^20): a block much thinner than the spacing on some axis");
+    }
     for (const auto& b : s.fluid) {
         vec3 lo, hi;
         std::array<std::int64_t, 3> n{1, 1, 1};

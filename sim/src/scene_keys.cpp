@@ -118,7 +118,7 @@ scene with_scene_key(const scene& s, std::string_view path, std::string_view val
     json v;
     try {
         v = json::parse(value);
-    } catch (const json::parse_error&) {
+    } catch (const json::exception&) {
         throw error(where + ": the value is not JSON: " + std::string(value));
     }
     const std::vector<path_step> steps = split_path(path);

@@ -81,12 +81,19 @@ public:
         std::uint64_t lists = 0;
         read_pod(in, lists);
         if (lists != springs_.size()) throw error("checkpoint: spring lists do not match the scene");
-        for (auto& list : springs_) {
+        for (std::size_t k = 0; k < springs_.size(); ++k) {
+            auto& list = springs_[k];
             std::uint64_t count = 0;
             auto pos = in.tellg();
             read_pod(in, count);
             in.seekg(pos);
             read_vec(in, list, count);
+            // Partners index the particles; a rest length is a distance.
+            for (const auto& s : list)
+                if (s.partner >= n_ || !std::isfinite(s.rest) || s.rest < 0)
+                    throw error("checkpoint: particle " + std::to_string(k) + " has a spring to particle " +
+                                std::to_string(s.partner) + " of rest length " + std::to_string(s.rest) + " (" +
+                                std::to_string(n_) + " particles)");
         }
     }
 

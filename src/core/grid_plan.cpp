@@ -25,8 +25,11 @@ constexpr double cell_margin = 1.0 + 0x1p-20;
 // Cell coordinates beyond this magnitude are rejected: neighbors are found at +-reach, and the
 // coordinates must stay exact in a double.
 constexpr double max_cell_coordinate = 0x1p52;
-// A uniform grid may have at most this many cells when asked for explicitly.
-constexpr double max_uniform_cells = 0x1p31;
+// A uniform grid may have at most this many cells when asked for explicitly, or over the
+// points near the origin when others lie beyond the hashed grid's keys: 4 bytes each, so at
+// most 64 MB or 256 bytes per point (three points 2^30 cells apart took 8 GB under a fixed
+// 2^31), and below 2^31 for 32-bit slots.
+double uniform_cell_budget(std::size_t n) { return std::min(0x1p31, std::max(0x1p24, 64.0 * double(n))); }
 std::string fmt_double(double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -145,7 +148,7 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
         q.cell = cell;
         q.radius = r;
         q.hashed_key_limit = max_cell_coordinate;
-        q.uniform_cell_limit = max_uniform_cells;
+        q.uniform_cell_limit = uniform_cell_budget(n);
         span_open_axes<T, D>(q, l.wraps.data(), box, coords, threads, lo.data(), hi.data());
         lay_out_periodic_cells(l, box, lo.data(), hi.data(), D, cell, n);
     } else {
@@ -158,14 +161,15 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
         q.cell = cell;
         q.radius = r;
         q.hashed_key_limit = max_cell_coordinate;
-        q.uniform_cell_limit = max_uniform_cells;
+        q.uniform_cell_limit = uniform_cell_budget(n);
         const kind_answer choice = choose_kind<T, D>(q, coords, threads);
         const grid_kind kind = choice.kind;
         const double cells = choice.cells;
         for (int a = 0; a < D; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
-        if (kind == grid_kind::uniform && !(cells <= max_uniform_cells))
+        if (kind == grid_kind::uniform && !(cells <= uniform_cell_budget(n)))
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
-                        " cells (extent / cell size); use the hashed grid");
+                        " cells (extent / cell size), more than its budget of " + fmt_double(uniform_cell_budget(n)) +
+                        " for " + std::to_string(n) + " points (the larger of 2^24 and 64 per point); use the hashed grid");
         l.kind = kind;
         lay_out_open_cells(l, lo.data(), hi.data(), D, cell, n);
         if (l.kind == grid_kind::hashed) {

@@ -247,7 +247,7 @@ struct sweeper {
     /// before it is written.
     std::uint64_t row_start(const std::vector<std::uint64_t>& starts, std::uint32_t s, std::size_t b, std::size_t e) const {
         if (starts.empty()) return job.offsets[s];
-        if (s + row_prefetch_distance < e) {
+        if (s + row_prefetch_distance < e && job.indices) {  // no pairs at all: no array (and null + k is undefined)
             const std::uint32_t* ahead = job.indices + starts[s + row_prefetch_distance - b];
             __builtin_prefetch(ahead, 1);
             __builtin_prefetch(ahead + 16, 1);

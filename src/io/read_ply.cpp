@@ -2,7 +2,10 @@
 // ascii, binary_little_endian or binary_big_endian files. Elements before the vertices are
 // skipped item by item (list properties included); elements after them are not read.
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "frnn/io/read.hpp"
@@ -226,6 +229,13 @@ std::vector<T> read_vertices(Cursor& c, const header& h, std::size_t vertex, con
             if (!std::isfinite(x))
                 detail::fail(c.name, "vertex " + std::to_string(item) +
                                          " has a non-finite coordinate (" + std::to_string(x) + ")");
+            // An ascii value of a float property may lie beyond float's range.
+            if (std::abs(x) > double(std::numeric_limits<T>::max())) {
+                char text[32];
+                std::snprintf(text, sizeof text, "%.9g", x);
+                detail::fail(c.name, "vertex " + std::to_string(item) + " has a coordinate (" + text +
+                                         ") beyond the range of its property's type");
+            }
             coords.push_back(T(x));
         }
     }

@@ -136,6 +136,11 @@ TEST(ply_read, ascii_bad_number) {
 }
 TEST(ply_read, ascii_end_of_file) { expect_bad(ascii_head + "1 2 3\n4 5\n", {"item 1 of 2", "property 'z'", "end of file"}); }
 TEST(ply_read, ascii_nan) { expect_bad(ascii_head + "1 2 3\n4 nan 6\n", {"vertex 1", "non-finite"}); }
+// A float property's ascii value beyond float's range (found by the points fuzzer: it read as inf).
+TEST(ply_read, ascii_value_beyond_float) {
+    expect_bad(ascii_head + "1 2 3\n4 1e39 6\n", {"vertex 1", "1e+39", "beyond the range"});
+    expect_bad(ascii_head + "1 -3.5e38 3\n4 5 6\n", {"vertex 0", "beyond the range"});
+}
 TEST(ply_read, not_a_ply) { expect_bad("solid stl\n", {"line 1", "not a ply file"}); }
 TEST(ply_read, empty) { expect_bad("", {"line 1", "not a ply file"}); }
 TEST(ply_read, no_end_header) { expect_bad("ply\nformat ascii 1.0\nelement vertex 0\n", {"line 4", "without 'end_header'"}); }

@@ -175,6 +175,8 @@ void huge_case(std::vector<T> pts, T r, grid_kind kind, double cell_fraction, co
         ADD_FAILURE() << "threw a type other than frnn::error: " << e.what();
         return;
     }
+    // At most the uniform grid's budget of max(2^24, 64 N) cells of 4 bytes, plus the points.
+    EXPECT_LE(g->memory_bytes(), (std::size_t(64) << 20) + 512 * (pts.size() / D)) << "memory of the grid";
     check_grid<T, D>(*g, pts, r, {}, std::vector<T>(pts.begin(), pts.begin() + D));
 }
 
@@ -190,6 +192,10 @@ TEST(OracleBadInput, CellCoordinateOverflow) {
             huge_case<float, 3>({0, 0, 0, 1e30f, 0, 0, 1e30f, 0, 0}, 1e-3f, kind, f, "float 1e30, r 1e-3");
             huge_case<float, 2>({3e38f, -3e38f, 0, 0}, 1.0f, kind, f, "float 3e38");
             huge_case<double, 3>({0, 0, 0, 1e-300, 0, 0}, 1e-300, kind, f, "tiny radius 1e-300");
+            // Found by the grid fuzzer: an automatic (or explicit) uniform grid of 2^30 cells
+            // for three points (8 GB), two of them apart by 2^30 cells, one beyond the keys.
+            huge_case<float, 3>({0, 0, 0, 0x1p30f, 0, 0, 0x1p60f, 0, 0}, 1.0f, kind, f, "2^30 and 2^60 cells");
+            huge_case<float, 2>({1.5e-30f, 0, 0, 0, 0, 0}, 3.857e-39f, kind, f, "1.5e-30 with r 3.9e-39");
         }
     }
 }

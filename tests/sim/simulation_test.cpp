@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -215,6 +216,48 @@ TEST(SimSimulation, LoadingANonCheckpointNamesTheFileAndKeepsTheRun) {
     frnn::test::expect_error([&] { sim.load_checkpoint((dir / "not.bin").string()); }, {"not.bin", "not a frnn sim checkpoint"});
     frnn::test::expect_error([&] { sim.load_checkpoint((dir / "missing.bin").string()); }, {"cannot open checkpoint", "missing.bin"});
     EXPECT_EQ(sim.steps(), 1u);
+}
+
+// A corrupt checkpoint is refused before it is used: lengths beyond the file allocate nothing,
+// and ids, which index the output and the springs, must be 0..n-1 each once (found by the
+// checkpoint fuzzer, tests/fuzz/).
+TEST(SimSimulation, CorruptCheckpointsAreRefused) {
+    const frnn::test::scratch_dir dir("sim_checkpoint_corrupt");
+    scene s = droplet_2d();
+    s.solver = solver_kind::sph;
+    simulation a(s, 1);
+    a.step();
+    const auto file = dir / "state.bin";
+    a.save_checkpoint(file.string());
+    std::string bytes;
+    {
+        std::ifstream in(file, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    auto load = [&](const std::string& changed) {
+        std::ofstream(dir / "bad.bin", std::ios::binary) << changed;
+        simulation b(s, 1);
+        b.load_checkpoint((dir / "bad.bin").string());
+    };
+    load(bytes);  // unchanged: loads
+
+    std::string huge = bytes;  // the scene's length, after the magic: 2^40 bytes
+    const std::uint64_t length = std::uint64_t(1) << 40;
+    std::memcpy(huge.data() + 8, &length, sizeof length);
+    frnn::test::expect_error([&] { load(huge); }, {"checkpoint", "truncated", "1099511627776"});
+
+    // The sph state ends with the ids (4 bytes each), then 2 arrays of n * 2 floats and a flag.
+    particle_snapshot snap;
+    a.snapshot(snap);
+    const std::size_t n = snap.n;
+    const std::size_t ids = bytes.size() - 1 - 2 * (8 + 8 * n) - 4 * n;
+    std::string twice = bytes;
+    std::memcpy(twice.data() + ids + 4, twice.data() + ids, 4);  // slot 1 holds slot 0's id
+    frnn::test::expect_error([&] { load(twice); }, {"checkpoint", "particle slot 1 holds id"});
+    std::string beyond = bytes;
+    const std::uint32_t far = std::uint32_t(n);
+    std::memcpy(beyond.data() + ids, &far, 4);
+    frnn::test::expect_error([&] { load(beyond); }, {"checkpoint", "particle slot 0 holds id " + std::to_string(n)});
 }
 
 // The viewer draws the cells a particle's search visits from the snapshot's geometry: after a
