@@ -1,0 +1,80 @@
+// Fuzzing the point-file readers: any bytes, read as a text (.csv/.xyz), .ply or .npy file,
+// give points or frnn::error, never a crash, a hang or memory beyond the file's size; the
+// points read are finite and in a dimension of 2 or 3.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "frnn/error.hpp"
+#include "frnn/io/read.hpp"
+#include "fuzz_input.hpp"
+
+namespace frnn::fuzz {
+namespace {
+
+void check(const io::point_set& p) {
+    if (p.dimension != 2 && p.dimension != 3) fail("a reader gave a dimension other than 2 or 3");
+    std::visit(
+        [&](const auto& v) {
+            if (v.size() % std::size_t(p.dimension) != 0) fail("a reader gave a partial point");
+            for (auto x : v)
+                if (!std::isfinite(x)) fail("a reader gave a non-finite coordinate");
+        },
+        p.coords);
+}
+
+/// The .npy readers take a path: the bytes go to a file of this process's own, removed before
+/// anything is checked (a finding stops the process).
+void read_npy(std::string_view bytes) {
+    static const std::filesystem::path file =
+        std::filesystem::temp_directory_path() / ("frnn-fuzz-" + std::to_string(::getpid()) + ".npy");
+    {
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+    }
+    std::vector<io::point_set> whole;
+    std::vector<io::point_slice> slices;
+    try {
+        whole.push_back(io::read_npy_points(file));
+    } catch (const error&) {
+    }
+    try {
+        for (std::uint64_t part = 0; part < 3; ++part) slices.push_back(io::read_npy_slice(file, part, 3));
+    } catch (const error&) {
+    }
+    try {
+        io::read_npy_values(file);
+    } catch (const error&) {
+    }
+    std::filesystem::remove(file);
+    for (const auto& p : whole) check(p);
+    for (std::uint64_t part = 0; part < slices.size(); ++part) {
+        const io::point_slice& s = slices[part];
+        check(s.points);
+        if (s.first != io::slice_start(s.total, part, 3) || s.first + s.points.size() != io::slice_start(s.total, part + 1, 3))
+            fail("an .npy slice holds other rows than its share");
+    }
+}
+
+}  // namespace
+}  // namespace frnn::fuzz
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    frnn::fuzz::fuzz_input in(data, size);
+    const std::size_t format = in.below(3);
+    const std::string_view bytes = in.rest();
+    try {
+        if (format == 0) frnn::fuzz::check(frnn::io::parse_text_points(bytes, "fuzz.csv"));
+        else if (format == 1) frnn::fuzz::check(frnn::io::parse_ply_points(bytes, "fuzz.ply"));
+    } catch (const frnn::error&) {
+    }
+    if (format == 2) frnn::fuzz::read_npy(bytes);
+    return 0;
+}
