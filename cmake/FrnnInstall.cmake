@@ -11,7 +11,7 @@ install(TARGETS frnn EXPORT frnnTargets
 # the MPI layer (mpi/).
 set(frnn_public_headers
   brute_force.hpp buffer.hpp csr.hpp error.hpp frnn.hpp grid.hpp grid_geometry.hpp options.hpp
-  parallel.hpp point_sets.hpp search_scale.hpp simd.hpp verlet_lists.hpp
+  parallel.hpp periodic_wrap.hpp point_sets.hpp search_scale.hpp simd.hpp verlet_lists.hpp
   detail/candidate_runs.hpp detail/grid_storage.hpp detail/stopwatch.hpp)
 set(frnn_vulkan_headers vulkan.hpp grid.glsl)
 # The MPI layer installs its folder with its component (src/mpi/CMakeLists.txt).

@@ -1,6 +1,7 @@
 // Brute-force O(N*M) reference search: the oracle every grid query is tested against, and
 // the O(N^2) baseline of the benchmarks. Single-threaded, header-only; distances use exactly
-// the grid's formula (minimum image on the axes whose `periodic` length is > 0) and its search scale for
+// the grid's formula (coordinates wrapped into the box and the minimum image on the axes whose
+// `periodic` length is > 0, frnn/periodic_wrap.hpp) and its search scale for
 // extreme radii (frnn/search_scale.hpp), so decisions at |d| == r agree.
 #pragma once
 #include <algorithm>
@@ -25,6 +26,7 @@ T brute_distance_squared(const T* a, const T* b, std::span<const double> periodi
         T d = b[k] - a[k];
         if (!periodic.empty() && periodic[k] > 0) {  // 0: an open axis
             const T box = T(periodic[k]);
+            d = wrap_into_box(b[k], box) - wrap_into_box(a[k], box);
             d -= box * std::nearbyint(d / box);
         }
         d2 += d * d;

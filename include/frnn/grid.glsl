@@ -17,7 +17,9 @@
 // After the loop, it.done is true unless the driver stopped it early (lavapipe stops the loops
 // of a group of 8 invocations after 65535 iterations in all): test it to detect a cut result.
 // Distances are computed with `precise` arithmetic, bit for bit like frnn's CPU grid; in a
-// periodic box they use the minimum image on its periodic axes, d -= L * roundEven(d / L).
+// periodic box they use the minimum image on its periodic axes, d -= L * roundEven(d / L),
+// between coordinates wrapped into [0, L) exactly (frnn_wrap_into_box; grid points are stored
+// wrapped, and frnn_begin wraps x).
 #ifndef FRNN_GRID_GLSL
 #define FRNN_GRID_GLSL
 
@@ -72,6 +74,28 @@ bool frnn_is_periodic() { return frnn_kind == 3u ? frnn_grid.periodic != 0u : fr
 // Whether axis a wraps: a periodic grid's axes with a box length (the others are open).
 bool frnn_wraps(int a) { return frnn_is_periodic() && frnn_grid.box[a] > 0.0; }
 
+// x wrapped into [0, box) (x finite, box > 0) exactly as frnn/periodic_wrap.hpp does on the
+// CPU: the remainder of |x| by long division, where each step subtracts box * 2^k from within
+// a factor of 2 of the remainder (an exact subtraction), then box minus the remainder for a
+// negative x, rounded once; a result that rounds up to box is 0. At most about 280 steps for
+// a float many boxes out, none for a point in the box.
+float frnn_wrap_into_box(float x, float box) {
+    if (x >= 0.0 && x < box) return x;
+    int box_exponent;
+    frexp(box, box_exponent);
+    precise float m = abs(x);
+    while (m >= box) {
+        int e;
+        frexp(m, e);
+        precise float k = ldexp(box, e - box_exponent);  // box's digits at m's exponent
+        if (k > m) k = k * 0.5;
+        m = m - k;
+    }
+    precise float w = m;
+    if (x < 0.0 && m > 0.0) w = box - m;
+    return w < box ? w : 0.0;
+}
+
 // Largest hashed cell coordinate: clamping is monotone, so far outliers share the border cells
 // and stay exact (they are compared by distance anyway).
 const float frnn_max_cell = 1073741824.0;
@@ -80,9 +104,7 @@ const float frnn_max_cell = 1073741824.0;
 // axis: the coordinate wrapped into [0, L) first.
 float frnn_cell_float(float x, int axis) {
     if (frnn_wraps(axis)) {
-        const float box = frnn_grid.box[axis];
-        precise float w = x - box * floor(x / box);
-        precise float u = w * frnn_grid.inv_cell[axis];
+        precise float u = frnn_wrap_into_box(x, frnn_grid.box[axis]) * frnn_grid.inv_cell[axis];
         return u;
     }
     precise float u = (x - frnn_grid.origin[axis]) * frnn_grid.inv_cell[axis];
@@ -190,6 +212,8 @@ void frnn_load_row(inout frnn_iterator it) {
 
 frnn_iterator frnn_begin(frnn_vec x) {
     frnn_iterator it;
+    for (int a = 0; a < FRNN_DIM; ++a)
+        if (frnn_wraps(a)) x[a] = frnn_wrap_into_box(x[a], frnn_grid.box[a]);
     it.x = x;
     // Every accepted pair (d2 <= radius2 in float) has |x_a - y_a| <= r (1 + 4 * 2^-24) on each
     // axis; `reach` is a little more.

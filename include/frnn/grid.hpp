@@ -1,7 +1,10 @@
 // frnn::grid: fixed-radius neighbor search over one point set.
 //
 // Two points i != j are neighbors when |x_i - x_j| <= r (the real radius, never its square),
-// with minimum-image distances when the grid is periodic.
+// with minimum-image distances when the grid is periodic. On a periodic axis every point, and
+// every query point, is first wrapped into [0, L) in its own precision (exactly, see
+// frnn/periodic_wrap.hpp): distances are those of the wrapped points, so a point any number
+// of boxes out has exactly the neighbors of its image in the box.
 //
 // With a radius per point (build with `radii`), j is a neighbor of i when |x_i - x_j| <= r_i
 // (radius_rule::gather) or <= max(r_i, r_j) (radius_rule::symmetric), as grid_options::rule
@@ -109,8 +112,10 @@ public:
     /// original_to_sorted()[i] is the position in cell order of the caller's point i. Computed
     /// on the first call after a build (4 bytes per point from then on).
     std::span<const std::uint32_t> original_to_sorted() const { return inverse_.get(perm_, threads()); }
-    /// Coordinate `axis` of the s-th point in cell order, as the caller gave it.
-    T sorted_coord(std::size_t s, int axis) const { return geometry_.scale == 1 ? pos_[axis][s] : input_pos_[axis][s]; }
+    /// Coordinate `axis` of the s-th point in cell order, as the caller gave it (not wrapped).
+    T sorted_coord(std::size_t s, int axis) const {
+        return input_pos_[axis].empty() ? pos_[axis][s] : input_pos_[axis][s];
+    }
 
     /// Calls f(j, distance_squared) for every neighbor j of point i (caller's indices).
     /// Squared distances beyond T's range (extreme radii only) read +infinity.
@@ -186,7 +191,7 @@ private:
 
     // Traversal, for frnn's own sweeps and backends through detail::grid_access.
     /// All coordinates on `axis` in cell order, in search space (size() values, then
-    /// detail::coordinate_padding zeros): the caller's when search_scale() is 1.
+    /// detail::coordinate_padding zeros): wrapped into a periodic box, then scaled.
     const T* search_coords(int axis) const { return pos_[axis].data(); }
     T search_coord(std::size_t s, int axis) const { return pos_[axis][s]; }
     /// Sorted points [s, end) lie in one cell and share their candidate runs.
@@ -210,12 +215,9 @@ private:
     /// twice).
     std::size_t forward_runs(const std::array<std::int64_t, 3>& cell, detail::candidate_run* out,
                              std::int64_t width = 1, detail::run_image* images = nullptr) const;
-    /// Periodic box: whether every point lies in [0, L) on every periodic axis as given (not
-    /// wrapped).
-    bool points_inside_box() const { return geometry_.inside_box; }
     /// Periodic box: whether the run images of stencil_runs and forward_runs are the minimum
-    /// image of every pair within r of grid points: all points inside the box, and at least
-    /// 2 reach + 3 cells on each periodic axis (then another image lies more than r away).
+    /// image of every pair within r of grid points: at least 2 reach + 3 cells on each periodic
+    /// axis (the points lie in the box, wrapped; another image then lies more than r away).
     bool images_exact() const;
     /// Uniform grid: cell c (geometry().slot_of_cell) holds the sorted points
     /// [cell_starts()[c], cell_starts()[c + 1]). Hashed grid: the starts of the occupied table
@@ -235,15 +237,21 @@ private:
     /// Integer cell coordinates of x, in search space (clamped to the uniform grid, wrapped
     /// when periodic).
     cell_index cell_of(const point& x) const { return geometry_.cell_of(x); }
-    /// The caller's query point x in search space, checked (index: for the message). On the
-    /// hashed grid a coordinate beyond every point by more than the stencil is brought back to
-    /// that distance, where it still has no neighbors: cell keys stay in range.
+    /// The caller's query point x in search space, checked (index: for the message): wrapped
+    /// into a periodic box, then scaled. On the hashed grid a coordinate beyond every point by
+    /// more than the stencil is brought back to that distance, where it still has no
+    /// neighbors: cell keys stay in range.
     point search_point(const point& x, std::size_t index) const {
         check_query_point(x, index);
         point y;
-        for (int a = 0; a < D; ++a) y[a] = T(std::clamp(double(x[a] * geometry_.scale), -geometry_.far_bound, geometry_.far_bound));
+        for (int a = 0; a < D; ++a) {
+            const T v = geometry_.wraps[a] ? wrap_into_box(x[a], caller_box(a)) : x[a];
+            y[a] = T(std::clamp(double(v * geometry_.scale), -geometry_.far_bound, geometry_.far_bound));
+        }
         return y;
     }
+    /// The periodic box's length on `axis` in the caller's units (0 on an open axis).
+    T caller_box(int axis) const { return geometry_.wraps[axis] ? T(options_.periodic[axis]) : T(0); }
     /// Hashed grid: whether sorted point j lies in `cell` (equals cell_of(point j) == cell, but
     /// inline: every cell lookup calls it, several times in slots shared by several cells).
     bool hashed_point_in_cell(std::uint32_t j, const std::array<std::int64_t, 3>& cell) const {
@@ -297,7 +305,7 @@ private:
     void build_planned(std::span<const T> coords, T radius, const grid_options& options, bool per_point,
                        std::vector<T> radii);
     void keep_point_radii();
-    void keep_input_coordinates(std::span<const T> coords);
+    void keep_input_coordinates(std::span<const T> coords, bool differ);
     void sort_into_cells(std::span<const T> coords);
     void size_sort_arrays(std::size_t n, std::size_t parts);
     bool count_slots(std::span<const T> coords, std::uint32_t* slot_of, std::size_t parts);
@@ -347,7 +355,7 @@ private:
 
     // Structure.
     std::array<buffer<T>, D> pos_;          // points in cell order, one array per axis, search space
-    std::array<buffer<T>, D> input_pos_;    // search scale not 1: the caller's coordinates in cell order
+    std::array<buffer<T>, D> input_pos_;    // scaled or wrapped: the caller's coordinates in cell order
     buffer<std::uint32_t> perm_;            // sorted -> original
     buffer<T> point_r2_;                    // point radii: squared, search space, cell order, padded
     detail::lazy_inverse inverse_;          // original -> sorted, on first use

@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include "frnn/options.hpp"
+#include "frnn/periodic_wrap.hpp"
 
 namespace frnn {
 
@@ -61,7 +62,6 @@ struct grid_geometry {
     grid_kind kind = grid_kind::uniform;  ///< never automatic
     bool periodic = false;             ///< some axis is periodic
     std::array<bool, 3> wraps{};       ///< which axes are periodic
-    bool inside_box = false;           ///< periodic: all points in [0, L) on the periodic axes
     int reach = 1;                     ///< cells visited on each side
     std::array<double, 3> origin{};    ///< lower corner of cell (0,0,0)
     std::array<double, 3> cell{};      ///< effective cell edge per axis
@@ -74,15 +74,15 @@ struct grid_geometry {
     double far_bound = INFINITY;       ///< hashed: query coordinates beyond +-this have no neighbors
 
     /// The cell of point x (search space): clamped to the uniform grid (points outside it share
-    /// its border cells), wrapped into a periodic box on its periodic axes.
+    /// its border cells), wrapped into a periodic box on its periodic axes (as the search
+    /// wraps it, frnn/periodic_wrap.hpp).
     template <std::size_t D>
     cell_index cell_of(const std::array<T, D>& x) const {
         cell_index c{0, 0, 0};
         for (std::size_t a = 0; a < D; ++a) {
             const double v = double(x[a]);
             if (wraps[a]) {
-                const double length = double(box[a]);
-                const double w = (v - length * std::floor(v / length)) * inv_cell[a];
+                const double w = double(wrap_into_box(x[a], box[a])) * inv_cell[a];
                 c[a] = std::int64_t(std::clamp(w, 0.0, double(dims[a] - 1)));
             } else if (kind == grid_kind::uniform) {
                 c[a] = std::int64_t(std::clamp((v - origin[a]) * inv_cell[a], 0.0, double(dims[a] - 1)));

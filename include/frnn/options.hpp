@@ -43,7 +43,9 @@ struct grid_options {
     double cell_size = 0;
     /// Empty: open boundaries. Otherwise one value per axis: a box length L > 0 makes that
     /// axis periodic, [0, L) with minimum-image distances, and must be >= 2 r; 0 leaves the
-    /// axis open (a channel periodic in x only is {Lx, 0, 0}). A box with a periodic axis
+    /// axis open (a channel periodic in x only is {Lx, 0, 0}). Points and query points
+    /// outside [0, L), any number of boxes out, are wrapped into it exactly
+    /// (frnn/periodic_wrap.hpp) and have the neighbors of their image. A box with a periodic axis
     /// always uses the uniform grid (`kind` is then ignored): its open axes span the points, or
     /// their bulk with far outliers in the border cells as the automatic kind does; very
     /// sparse boxes get larger cells instead of more of them.

@@ -20,6 +20,7 @@
 #include <string>
 
 #include "frnn/error.hpp"
+#include "frnn/periodic_wrap.hpp"
 
 namespace frnn {
 
@@ -44,7 +45,7 @@ T search_scale(T radius, T largest) {
     if (e + k < low) {
         char text[200];
         std::snprintf(text, sizeof text,
-                      "radius %.9g is too small for coordinates (or 2^31 periodic boxes) up to %.9g: "
+                      "radius %.9g is too small for coordinates (or periodic box lengths) up to %.9g: "
                       "%s cannot square distances over that range",
                       double(radius), double(largest), sizeof(T) == 4 ? "float" : "double");
         throw error(text);
@@ -52,13 +53,16 @@ T search_scale(T radius, T largest) {
     return std::ldexp(T(1), k);
 }
 
-/// What search_scale needs to know of a point set: the largest magnitude of its coordinates
-/// and, in a periodic box, of 2^31 box lengths (query points may lie 2^30 boxes away).
+/// What search_scale needs to know of a point set (values: interleaved coordinates, one per
+/// axis of `periodic` when that is not empty): the largest magnitude of its coordinates on the
+/// open axes and of the box lengths, which bound every coordinate of a periodic axis once
+/// wrapped into the box (frnn/periodic_wrap.hpp), query points' too.
 template <class T>
 T largest_magnitude(std::span<const T> values, std::span<const double> periodic = {}) {
     T m = 0;
-    for (T v : values) m = std::max(m, std::abs(v));
-    for (double b : periodic) m = std::max(m, T(std::min(b * 0x1p31, double(std::numeric_limits<T>::max()))));
+    for (std::size_t i = 0; i < values.size(); ++i)
+        if (periodic.empty() || !(periodic[i % periodic.size()] > 0)) m = std::max(m, std::abs(values[i]));
+    for (double b : periodic) m = std::max(m, T(std::min(b, double(std::numeric_limits<T>::max()))));
     return m;
 }
 
@@ -72,10 +76,13 @@ T unscale_squared(T d2, T inv) {
 /// The distance test of a search with radius r and scale s: within(a, b) says whether the
 /// points a and b (caller's coordinates) are neighbors and gives their squared distance in the
 /// scaled units; `periodic` holds the box lengths (empty: open boundaries; 0: an open axis).
+/// On a periodic axis both coordinates are wrapped into the box (in the caller's units) before
+/// they are scaled, and the difference takes the minimum image.
 template <class T, int D>
 struct distance_test {
     T scale = 1, inv_scale = 1, r2 = 0;
-    T box[D] = {};
+    T box[D] = {};         ///< scaled box lengths (0 on an open axis)
+    T caller_box[D] = {};  ///< the lengths in the caller's units, rounded to T
     bool periodic = false;
 
     distance_test(T radius, T s, std::span<const double> periodic_lengths = {})
@@ -85,14 +92,23 @@ struct distance_test {
                         std::to_string(periodic_lengths.size()));
         const T r = radius * s;
         r2 = r * r;
-        for (int a = 0; a < D && periodic; ++a) box[a] = T(periodic_lengths[std::size_t(a)]) * s;
+        for (int a = 0; a < D && periodic; ++a) {
+            caller_box[a] = T(periodic_lengths[std::size_t(a)]);
+            box[a] = caller_box[a] * s;
+        }
     }
-    /// Squared distance of a and b in the scaled units (minimum image on the periodic axes).
+    /// Squared distance of a and b in the scaled units (wrapped, minimum image on the periodic
+    /// axes).
     T scaled_distance_squared(const T* a, const T* b) const {
         T d2 = 0;
         for (int k = 0; k < D; ++k) {
-            T d = b[k] * scale - a[k] * scale;
-            if (periodic && box[k] > 0) d -= box[k] * std::nearbyint(d / box[k]);
+            T d;
+            if (periodic && box[k] > 0) {
+                d = wrap_into_box(b[k], caller_box[k]) * scale - wrap_into_box(a[k], caller_box[k]) * scale;
+                d -= box[k] * std::nearbyint(d / box[k]);
+            } else {
+                d = b[k] * scale - a[k] * scale;
+            }
             d2 += d * d;
         }
         return d2;

@@ -48,9 +48,7 @@ struct grid_access {
                                     run_image* images = nullptr) {
         return g.forward_runs(c, out, width, images);
     }
-    /// Periodic box: every point in [0, L) as given; the run images are the minimum images.
-    template <class T, int D>
-    static bool points_inside_box(const grid<T, D>& g) { return g.points_inside_box(); }
+    /// Periodic box: the run images are the minimum images.
     template <class T, int D>
     static bool images_exact(const grid<T, D>& g) { return g.images_exact(); }
 

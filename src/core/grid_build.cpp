@@ -51,9 +51,6 @@ void grid<T, D>::check_query_point(const point& x, std::size_t index) const {
         if (!std::isfinite(x[a]))
             throw error("query point " + std::to_string(index) + " has a non-finite coordinate (axis " +
                         std::to_string(a) + ")");
-        if (geometry_.wraps[a] && std::abs(double(x[a])) >= options_.periodic[a] * 0x1p30)
-            throw error("query point " + std::to_string(index) +
-                        " lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
     }
 }
 
@@ -125,7 +122,7 @@ void grid<T, D>::build_planned(std::span<const T> coords, T radius, const grid_o
     try {
         radii_ = std::move(radii);
         sort_into_cells(scaled.empty() ? coords : std::span<const T>(scaled));
-        keep_input_coordinates(coords);
+        keep_input_coordinates(coords, !scaled.empty());
         keep_point_radii();
     } catch (...) {
         clear();
@@ -179,11 +176,12 @@ void grid<T, D>::require_one_radius(const char* what) const {
         throw error(std::string(what) + ": this grid has a radius per point; give the query points radii too");
 }
 
-// A scaled grid keeps the caller's coordinates too, in cell order (scaling may round tiny ones).
+// A grid whose search coordinates differ from the caller's (scaled, which may round tiny ones,
+// or wrapped into the periodic box) keeps the caller's too, in cell order.
 template <class T, int D>
-void grid<T, D>::keep_input_coordinates(std::span<const T> coords) {
+void grid<T, D>::keep_input_coordinates(std::span<const T> coords, bool differ) {
     for (int a = 0; a < D; ++a) {
-        if (geometry_.scale == 1) {
+        if (!differ) {
             input_pos_[a] = buffer<T>();
             continue;
         }

@@ -13,6 +13,7 @@
 #include "core/sweep.hpp"
 #include "cpu/parallel.hpp"
 #include "frnn/error.hpp"
+#include "frnn/periodic_wrap.hpp"
 #include "frnn/search_scale.hpp"
 
 namespace frnn::detail {
@@ -108,40 +109,49 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
             if (box < 2 * user_r)
                 throw error("periodic box length " + fmt_double(box) + " on axis " + std::to_string(a) +
                             " is smaller than twice the radius (" + fmt_double(2 * user_r) + ")");
-            if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= box * 0x1p30)
-                throw error("a point lies more than 2^30 periodic boxes away on axis " + std::to_string(a));
             l.wraps[a] = true;
             l.periodic = true;
         }
     }
 
     // The search scale: coordinates, radius, cell size and box in search space from here on.
-    T largest = 0;
-    for (int a = 0; a < D; ++a) largest = std::max(largest, T(std::max(std::abs(lo[a]), std::abs(hi[a]))));
-    largest = std::max(largest, largest_magnitude<T>({}, o.periodic));
+    // Coordinates of periodic axes are wrapped into the box first (frnn/periodic_wrap.hpp), so
+    // the box lengths bound them.
+    T largest = largest_magnitude<T>({}, o.periodic);
+    for (int a = 0; a < D; ++a)
+        if (!l.wraps[a]) largest = std::max(largest, T(std::max(std::abs(lo[a]), std::abs(hi[a]))));
     l.scale = frnn::search_scale<T>(radius, largest);
     l.search_radius = radius * l.scale;
-    if (l.scale != 1) {
+    std::array<T, D> caller_box{};  // 0 on open axes
+    bool wrap = false;
+    for (int a = 0; a < D; ++a) {
+        if (!l.wraps[a]) continue;
+        caller_box[a] = T(o.periodic[a]);
+        wrap = wrap || lo[a] < 0 || hi[a] >= double(caller_box[a]);
+    }
+    if (l.scale != 1 || wrap) {
         scaled.resize(coords.size());
-        for_each_chunk(coords.size(), chunk_count(coords.size(), threads, 1 << 16), threads,
-                               [&](std::size_t, std::size_t b, std::size_t e) {
-                                   for (std::size_t i = b; i < e; ++i) scaled[i] = coords[i] * l.scale;
-                               });
+        for_each_chunk(n, chunk_count(n, threads, 1 << 15), threads, [&](std::size_t, std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i)
+                for (int a = 0; a < D; ++a) {
+                    const T v = coords[i * D + a];
+                    scaled[i * D + a] = (l.wraps[a] ? wrap_into_box(v, caller_box[a]) : v) * l.scale;
+                }
+        });
         coords = scaled;
+        // Periodic axes are laid out from the box alone; open ones from the scaled span.
         for (int a = 0; a < D; ++a) lo[a] = double(T(lo[a]) * l.scale), hi[a] = double(T(hi[a]) * l.scale);
     }
     const double r = double(l.search_radius);
     const double cell = (o.cell_size == 0 ? r : o.cell_size * double(l.scale)) * cell_margin;
     l.reach = int(std::ceil(r / cell));
 
-    l.inside_box = l.periodic;
     if (l.periodic) {
         double box[3] = {0, 0, 0};
         for (int a = 0; a < D; ++a) {
             if (!l.wraps[a]) continue;
             box[a] = o.periodic[a] * double(l.scale);
-            l.box[a] = T(o.periodic[a]) * l.scale;
-            l.inside_box = l.inside_box && lo[a] >= 0 && hi[a] < double(l.box[a]);
+            l.box[a] = caller_box[a] * l.scale;
         }
         kind_question q;
         q.n = n;

@@ -441,7 +441,9 @@ std::span<const T> grid<T, D>::search_queries(std::span<const T> queries, std::v
         point x;
         for (int a = 0; a < D; ++a) x[a] = queries[q * D + a];
         check_query_point(x, q);
-        for (int a = 0; a < D; ++a) as_given = as_given && std::abs(double(x[a])) <= geometry_.far_bound;
+        for (int a = 0; a < D; ++a)
+            as_given = as_given && std::abs(double(x[a])) <= geometry_.far_bound &&
+                       (!geometry_.wraps[a] || (x[a] >= 0 && x[a] < caller_box(a)));
     }
     if (as_given) return queries;
     storage.resize(queries.size());

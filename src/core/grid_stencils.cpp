@@ -29,7 +29,7 @@ void append_imaged_run(detail::candidate_run* out, detail::run_image* images, st
 
 template <class T, int D>
 bool grid<T, D>::images_exact() const {
-    if (!geometry_.periodic || !geometry_.inside_box) return false;
+    if (!geometry_.periodic) return false;
     for (int a = 0; a < D; ++a)
         if (geometry_.wraps[a] && geometry_.dims[a] < 2 * geometry_.reach + 3) return false;
     return true;

@@ -145,12 +145,11 @@ struct sweeper {
     }
 
     /// Periodic box: whether the minimum image may differ from the plain difference for a
-    /// point of `cell` and a candidate of its stencil. It cannot when every point lies inside
-    /// the box, the stencil does not wrap, and the box spans at least 2k + 3 cells: then
+    /// point of `cell` and a candidate of its stencil. It cannot when the stencil does not wrap
+    /// and the box spans at least 2k + 3 cells (points lie in the box, wrapped): then
     /// |d| < (k + 1) cells < box / 2 on every periodic axis, so nearbyint(d / box) = 0.
     bool wraps(const std::array<std::int64_t, 3>& cell) const {
         if constexpr (!Periodic) return false;
-        if (!grid_access::points_inside_box(g)) return true;
         const auto dims = g.geometry().dims;
         const int k = g.reach();
         for (int a = 0; a < D; ++a)

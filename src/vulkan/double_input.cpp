@@ -18,18 +18,22 @@ namespace {
 
 const std::string who = "vulkan::search (double input, float device)";
 
-// Float copies of double coordinates; `largest` grows to the largest magnitude seen.
+// Float copies of double coordinates, wrapped into the box first on periodic axes (in double,
+// as the decision takes them); `largest` grows to the largest magnitude seen.
 template <int D>
-std::vector<float> to_float(std::span<const double> in, const char* what, double& largest) {
+std::vector<float> to_float(std::span<const double> in, const char* what, const std::vector<double>& periodic,
+                            double& largest) {
     if (in.size() % D != 0)
         throw error(who + ": " + std::to_string(in.size()) + " " + what + " coordinates is not a multiple of " +
                     std::to_string(D));
     std::vector<float> out(in.size());
     for (std::size_t i = 0; i < in.size(); ++i) {
-        const double v = in[i];
+        double v = in[i];
         if (!std::isfinite(v))
             throw error(who + ": " + what + " point " + std::to_string(i / D) + " has a non-finite coordinate (axis " +
                         std::to_string(i % D) + ")");
+        const std::size_t a = i % D;
+        if (a < periodic.size() && periodic[a] > 0 && std::isfinite(periodic[a])) v = wrap_into_box(v, periodic[a]);
         if (std::abs(v) > double(std::numeric_limits<float>::max()))
             throw error(who + ": " + what + " point " + std::to_string(i / D) + " has coordinate " +
                         std::to_string(v) + " on axis " + std::to_string(i % D) +
@@ -84,8 +88,8 @@ basic_search_result<double> search_double(context& ctx, std::span<const double> 
     if (lo.space == index_space::sorted)
         throw error(who + ": index_space::sorted needs the grid's cell order, which search does not return");
     double largest = 0;
-    const std::vector<float> xf = to_float<D>(coords, "data", largest);
-    const std::vector<float> qf = to_float<D>(queries, "query", largest);
+    const std::vector<float> xf = to_float<D>(coords, "data", go.periodic, largest);
+    const std::vector<float> qf = to_float<D>(queries, "query", go.periodic, largest);
     grid<D> g(ctx);
     g.build(xf, candidate_radius<D>(r, largest, go), go);
     const auto t1 = clock::now();

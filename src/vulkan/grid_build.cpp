@@ -34,9 +34,14 @@ void grid_state::build_from_host(std::span<const float> coords, float r, const g
     for (int a = 0; a < dim; ++a) lo[a] *= s, hi[a] *= s;
     std::vector<float> scaled;
     if (s != 1) {
-        // The oracle's multiplication, in float: below a quarter of FLT_MAX (search_scale), exact.
+        // The oracle's wrap and multiplication, in float: below a quarter of FLT_MAX
+        // (search_scale), exact. Unscaled points are wrapped on the device (stable.comp).
         scaled.resize(coords.size());
-        for (std::size_t i = 0; i < coords.size(); ++i) scaled[i] = coords[i] * s;
+        for (std::size_t i = 0; i < coords.size(); ++i) {
+            const std::size_t a = i % std::size_t(dim);
+            const bool wraps = a < o.periodic.size() && o.periodic[a] > 0;
+            scaled[i] = (wraps ? wrap_into_box(coords[i], float(o.periodic[a])) : coords[i]) * s;
+        }
         coords = scaled;
     }
     const grid_layout l = configure(o, count, r, s, lo, hi, coords);
@@ -129,7 +134,8 @@ void grid_state::commit(const float* host, buffer_view coords, std::size_t count
                            tmp.view(0, n4(1))},
                           &c, 4, groups_for(n, group_size));
             dev->dispatch(dev->get(shader::stable, dim),
-                          {start.view(0, (geometry.slots + 1) * 4), point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
+                          {params_buf.view(0, sizeof(grid_params)), start.view(0, (geometry.slots + 1) * 4),
+                           point_slot.view(0, n4(1)), tmp.view(0, n4(1)), pos,
                            point_cell.view(0, n4(dim)), perm.view(0, n4(1)), inverse.view(0, n4(1)),
                            sorted_pos.view(0, n4(dim)), sorted_cell.view(0, n4(dim)), status_word()},
                           &c, 4, groups_for(n, group_size));

@@ -76,7 +76,6 @@ void grid_state::configure_periodic(grid_geometry<float>& g, const grid_options&
                                     float s, double cell, double* lo, double* hi, std::span<const float> points) const {
     double search_box[3] = {0, 0, 0};
     g.periodic = true;
-    g.inside_box = true;
     for (int a = 0; a < dim; ++a) {
         const double length = o.periodic[a];
         if (length == 0) continue;  // an open axis
@@ -89,10 +88,6 @@ void grid_state::configure_periodic(grid_geometry<float>& g, const grid_options&
         // The oracle's box: the length rounded to float, then scaled (exact: a power of two).
         g.box[a] = float(length) * s;
         g.wraps[a] = true;
-        if (std::max(std::abs(lo[a]), std::abs(hi[a])) >= double(g.box[a]) * 0x1p30)
-            throw error("vulkan::grid::build: a point lies more than 2^30 periodic boxes away on axis " +
-                        std::to_string(a));
-        g.inside_box = g.inside_box && lo[a] >= 0 && hi[a] < double(g.box[a]);
         search_box[a] = length * double(s);
     }
     frnn::detail::kind_question q;
@@ -140,10 +135,13 @@ void grid_state::check_arguments(std::size_t count, float r, const grid_options&
                     std::to_string(dev->info().max_storage_buffer_range) + " bytes)");
 }
 
-// The search scale of frnn/search_scale.hpp, from the bounding box (caller's units) and the box.
+// The search scale of frnn/search_scale.hpp, from the bounding box (caller's units) on the open
+// axes and the box lengths, which bound the periodic axes' coordinates once wrapped.
 float grid_state::scale_for(float r, const float* lo, const float* hi, const grid_options& o) const {
     float largest = largest_magnitude<float>({}, o.periodic);
-    for (int a = 0; a < dim; ++a) largest = std::max({largest, std::abs(lo[a]), std::abs(hi[a])});
+    for (int a = 0; a < dim; ++a)
+        if (!(std::size_t(a) < o.periodic.size() && o.periodic[a] > 0))
+            largest = std::max({largest, std::abs(lo[a]), std::abs(hi[a])});
     try {
         return frnn::search_scale<float>(r, largest);
     } catch (const error& e) {

@@ -17,18 +17,18 @@ grid_state::row_source grid_state::upload_queries(std::span<const float> q, cons
         if (!std::isfinite(q[i]))
             throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
                         " has a non-finite coordinate (axis " + std::to_string(i % dim) + ")");
-        if (geometry.wraps[i % dim] && std::abs(double(q[i]) * geometry.scale) >= double(params.box[i % dim]) * 0x1p30)
-            throw error(std::string("vulkan::grid::") + what + ": query point " + std::to_string(i / dim) +
-                        " lies more than 2^30 periodic boxes away on axis " + std::to_string(i % dim));
     }
     std::vector<float> scaled;
     if (geometry.scale != 1) {
-        // In search units, as the oracle multiplies them. A far query may overflow when s > 1:
-        // the oracle's differences are then infinite (no neighbors), and a point at 2^127 has
-        // none either, since scaled data lie below 2^126 (search_scale) and r*s is far smaller.
+        // In search units, wrapped and multiplied as the oracle does (unscaled queries are
+        // wrapped on the device, by frnn_begin). A far query on an open axis may overflow when
+        // s > 1: the oracle's differences are then infinite (no neighbors), and a point at 2^127
+        // has none either, since scaled data lie below 2^126 (search_scale) and r*s is far smaller.
         scaled.resize(q.size());
         for (std::size_t i = 0; i < q.size(); ++i) {
-            const float y = q[i] * geometry.scale;
+            const std::size_t a = i % std::size_t(dim);
+            const float v = geometry.wraps[a] ? wrap_into_box(q[i], geometry.box[a] / geometry.scale) : q[i];
+            const float y = v * geometry.scale;
             scaled[i] = std::isinf(y) ? std::copysign(0x1p127f, q[i]) : y;
         }
         q = scaled;

@@ -43,7 +43,7 @@ embedded_shader embedded(shader s, int dim) {
         case shader::scan_block: return FRNN_ONE(scan_block, 2);
         case shader::scan_add: return FRNN_ONE(scan_add, 2);
         case shader::scatter: return FRNN_ONE(scatter, 4);
-        case shader::stable: return FRNN_BY_DIM(stable, 10);
+        case shader::stable: return FRNN_BY_DIM(stable, 11);
         case shader::count: return FRNN_BY_DIM(count, 8);
         case shader::fill: return FRNN_BY_DIM(fill, 10);
         case shader::knn: return FRNN_BY_DIM(knn, 10);

@@ -64,8 +64,6 @@ std::vector<attempt> failing_rebuilds(const std::vector<float>& pts, device_buff
     out.push_back({"periodic box below 2r", "twice the radius", [=](grid<3>& g) { g.build(pts, 1.0f, box); }});
     box.periodic = {5, 5};
     out.push_back({"periodic box of 2 lengths", "3 lengths", [=](grid<3>& g) { g.build(pts, 1.0f, box); }});
-    box.periodic = {1e-9, 5, 5};  // 2^30 boxes are 1.07: points up to 4 lie beyond
-    out.push_back({"points 2^30 boxes away", "2^30 periodic boxes", [=](grid<3>& g) { g.build(pts, 1e-10f, box); }});
     grid_options domain;
     domain.domain_min = {0, 0, 0};
     out.push_back({"domain without a maximum", "both domain_min and domain_max",
@@ -111,7 +109,7 @@ void survives_failed_rebuilds(context& ctx, const std::vector<float>& pts, float
         check_device_grid<3>(g, pts, r, o.periodic, queries, depth::basic);
         ++tried;
     }
-    EXPECT_EQ(tried, 19u);
+    EXPECT_EQ(tried, 18u);
 }
 
 TEST_F(vulkan_failed_build, uniform_grid_stays) {
