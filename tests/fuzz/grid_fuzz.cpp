@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <optional>
 #include <span>
 #include <vector>
@@ -12,21 +11,10 @@
 #include "frnn/brute_force.hpp"
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
-#include "fuzz_input.hpp"
+#include "grid_case.hpp"
 
 namespace frnn::fuzz {
 namespace {
-
-template <class T>
-bool same(const csr<T>& a, const csr<T>& b, bool distances) {
-    if (a.offsets.size() != b.offsets.size() || a.indices.size() != b.indices.size()) return false;
-    if (!std::equal(a.offsets.begin(), a.offsets.end(), b.offsets.begin())) return false;
-    if (!std::equal(a.indices.begin(), a.indices.end(), b.indices.begin())) return false;
-    // Distances bit for bit: the oracle computes them with the grid's formula.
-    return !distances || (a.distances.size() == b.distances.size() &&
-                          (a.distances.empty() ||
-                           std::memcmp(a.distances.data(), b.distances.data(), a.distances.size() * sizeof(T)) == 0));
-}
 
 template <class T, int D>
 std::optional<grid<T, D>> build(std::span<const T> points, T radius, std::span<const T> radii, grid_options o, int threads) {
@@ -39,41 +27,12 @@ std::optional<grid<T, D>> build(std::span<const T> points, T radius, std::span<c
     }
 }
 
-/// The decoded case, for a person reading a finding (FRNN_FUZZ_PRINT=1).
-template <class T, int D>
-void print(const std::vector<T>& points, T radius, const std::vector<T>& radii, const grid_options& o) {
-    std::fprintf(stderr, "%s %dD, %zu points, kind %d, rule %d, cell %.17g, radius %.17g\n", sizeof(T) == 4 ? "float" : "double",
-                D, points.size() / D, int(o.kind), int(o.rule), o.cell_size, double(radius));
-    for (double b : o.periodic) std::fprintf(stderr, "  box %.17g\n", b);
-    for (std::size_t i = 0; i < points.size() / D; ++i) {
-        std::fprintf(stderr, "  %zu:", i);
-        for (int a = 0; a < D; ++a) std::fprintf(stderr, " %.17g", double(points[i * D + a]));
-        if (!radii.empty()) std::fprintf(stderr, "  r %.17g", double(radii[i]));
-        std::fprintf(stderr, "\n");
-    }
-}
-
 template <class T, int D>
 void run(fuzz_input& in) {
-    const std::size_t n = in.below(40);
-    const T scale = in.scale<T>(std::is_same_v<T, float> ? 130 : 1030);
-    const bool own_radii = in.flag();
-    grid_options o;
-    o.kind = grid_kind(in.below(3));
-    o.rule = in.flag() ? radius_rule::symmetric : radius_rule::gather;
-    const T radius = in.value<T>(scale);
-    std::vector<T> radii;
-    if (own_radii)
-        for (std::size_t i = 0; i < n; ++i) radii.push_back(in.value<T>(scale));
-    if (in.flag())
-        for (int a = 0; a < D; ++a) o.periodic.push_back(in.flag() ? 0.0 : double(in.value<T>(scale)));
-    if (!own_radii) {
-        const double fraction[] = {0, 1, 0.5, 1.0 / 3, 0.25};
-        o.cell_size = fraction[in.below(5)] * double(radius);
-    }
-    std::vector<T> points(n * D);
-    for (auto& v : points) v = in.value<T>(scale);
-    if (std::getenv("FRNN_FUZZ_PRINT")) print<T, D>(points, radius, radii, o);
+    const grid_case<T, D> c = decode_grid_case<T, D>(in);
+    if (std::getenv("FRNN_FUZZ_PRINT")) print(c);
+    const auto& [points, radii, queries, query_radii, radius, o, own_radii] = c;
+    const std::size_t n = points.size() / D;
 
     const auto one = build<T, D>(points, radius, radii, o, 1);
     const auto two = build<T, D>(points, radius, radii, o, 2);
@@ -99,23 +58,12 @@ void run(fuzz_input& in) {
         list_options half;
         half.half = true;
         half.order = row_order::index;
-        const csr<T> h = one->neighbor_lists(half);
-        for (std::size_t i = 0; i < n; ++i) {
-            std::vector<std::uint32_t> want;
-            for (auto k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k)
-                if (lists.indices[k] > i) want.push_back(lists.indices[k]);
-            if (h.offsets[i + 1] - h.offsets[i] != want.size() ||
-                !std::equal(want.begin(), want.end(), h.indices.begin() + std::ptrdiff_t(h.offsets[i])))
-                fail("half rows differ from the full rows' entries past the point");
-        }
+        if (!half_rows_match(lists, one->neighbor_lists(half)))
+            fail("half rows differ from the full rows' entries past the point");
     }
 
     // Query points of their own (anywhere, far ones included), with their own radii on a
     // grid of radii.
-    const std::size_t m = in.below(8);
-    std::vector<T> queries(m * D), query_radii;
-    for (auto& v : queries) v = in.value<T>(scale);
-    for (std::size_t q = 0; own_radii && q < m; ++q) query_radii.push_back(in.value<T>(scale));
     std::optional<csr<T>> answer;
     try {
         answer = own_radii ? one->query(queries, query_radii, lo) : one->query(queries, lo);
