@@ -150,7 +150,18 @@ protected:
                     o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
                 }
             }
-            grid_.build(std::span<const float>(x_), float(radius), o);
+            try {
+                grid_.build(std::span<const float>(x_), float(radius), o);
+            } catch (const error&) {
+                if (periodic_) throw;
+                // A domain that needs more cells than a uniform grid may have (many times the
+                // fluid's extent): the hashed grid, whose cells too are a function of the
+                // positions alone. Any other bad input fails it the same way.
+                o.kind = grid_kind::hashed;
+                o.domain_min.clear();
+                o.domain_max.clear();
+                grid_.build(std::span<const float>(x_), float(radius), o);
+            }
             built_ = true;
         } else {
             grid_.rebuild(std::span<const float>(x_));
