@@ -79,6 +79,10 @@ TEST(MpiCli, OutputIsTheSingleProcessFileOnEveryOracleSet) {
     for (std::size_t i = 0; i < box_points.size(); ++i) box_points[i] = std::min(box_points[i] * box[i % 3], box[i % 3] * 0.999999);
     expect_same_files<double, 3>("periodic", box_points, "in.npy", ".npz", "-r 1.1 --periodic 8,6,7");
     expect_same_files<double, 3>("periodic_on_x_and_z", box_points, "in.npy", ".npz", "-r 1.1 --periodic 8,0,7");
+    // Points outside the box, a few boxes and 10^6 boxes out: wrapped as the single process does.
+    std::vector<float> outside(box_points.begin(), box_points.end());
+    for (std::size_t i = 0; i < 300; ++i) outside[i] += float(box[i % 3] * (i < 30 ? 1e6 : double(int(i % 7) - 3)));
+    expect_same_files<float, 3>("periodic_points_outside", outside, "in.npy", ".npz", "-r 1.1 --periodic 8,6,7");
     std::vector<double> outliers = uniform_points<double, 3>(600, 0, 5, 64);
     append_point<double, 3>(outliers, 1e6);
     append_point<double, 3>(outliers, -1e6);
