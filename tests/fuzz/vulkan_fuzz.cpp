@@ -78,13 +78,6 @@ void double_case(const auto& c, auto dim) {
     const auto& [points, radii, queries, query_radii, radius, o, per_point] = c;
     if (per_point) return;  // one radius on the device
     const std::span<const double> box(o.periodic);
-    // The double search decides with the plain squared radius: extreme radii, which the grid
-    // and the oracle search scaled, are the CPU's alone.
-    try {
-        if (search_scale<double>(radius, largest_magnitude<double>(points, box)) != 1) return;
-    } catch (const error&) {
-        return;
-    }
     for (bool own : {true, false}) {
         if (!own && queries.empty()) continue;  // the search would list the points' own rows
         std::optional<csr<double>> got;
@@ -92,6 +85,14 @@ void double_case(const auto& c, auto dim) {
             got = vulkan::search(device(), points, D, radius, o, by_index(), own ? std::span<const double>() : queries).lists;
         } catch (const error&) {
             continue;
+        }
+        // The double search decides with the plain squared radius: extreme radii, which the
+        // grid and the oracle search scaled, are the CPU's alone (the radius is valid here:
+        // the search took it).
+        try {
+            if (search_scale<double>(radius, largest_magnitude<double>(points, box)) != 1) return;
+        } catch (const error&) {
+            return;
         }
         const csr<double> want = own ? brute_force_lists<double, D>(points, points, radius, true, box)
                                      : brute_force_lists<double, D>(queries, points, radius, false, box);

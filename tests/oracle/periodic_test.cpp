@@ -111,6 +111,10 @@ void outside_box_case(std::vector<T> pts, const std::vector<double>& box, T r, c
         opt.threads = 1;
         const grid<T, D> g(pts, r, opt);
         check_grid<T, D>(g, pts, r, box, queries, depth_for_cell(f));
+        // The grid searches a wrapped copy; sorted_coord still gives the points as given.
+        for (std::size_t s = 0; s < g.size(); ++s)
+            for (int a = 0; a < D; ++a)
+                ASSERT_EQ(g.sorted_coord(s, a), pts[std::size_t(g.sorted_to_original()[s]) * D + std::size_t(a)]) << s;
     }
 }
 

@@ -106,6 +106,14 @@ TEST_F(vulkan_double, random_and_periodic_sets) {
     check<2>(p2, 1.0, query_points<double, 2>(p2, 1.0, 40, periodic.periodic, 49), periodic);
     periodic.periodic = {0, 5.1};  // periodic in y only
     check<2>(p2, 1.0, query_points<double, 2>(p2, 1.0, 40, periodic.periodic, 50), periodic);
+    // Points and queries 10^9 boxes out: wrapped in double before the float copy, so the
+    // rounding bound is the box's and the search stays on the device.
+    periodic.periodic = {7.3, 5.1};
+    auto far = uniform_points<double, 2>(500, 0, 5, 53);
+    auto far_queries = query_points<double, 2>(far, 1.0, 40, periodic.periodic, 54);
+    for (std::size_t i = 0; i < 100; ++i) far[i] += 1e9 * periodic.periodic[i % 2] * (i % 4 < 2 ? 1 : -1);
+    for (std::size_t i = 0; i < 20; ++i) far_queries[i] -= 1e9 * periodic.periodic[i % 2];
+    check<2>(far, 1.0, far_queries, periodic);
 }
 
 TEST_F(vulkan_double, refusals_name_the_backend_and_the_precision) {
