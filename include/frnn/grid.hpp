@@ -37,6 +37,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -239,14 +240,21 @@ private:
     cell_index cell_of(const point& x) const { return geometry_.cell_of(x); }
     /// The caller's query point x in search space, checked (index: for the message): wrapped
     /// into a periodic box, then scaled. On the hashed grid a coordinate beyond every point by
-    /// more than the stencil is brought back to that distance, where it still has no
-    /// neighbors: cell keys stay in range.
+    /// more than the stencil is brought back to that distance (rounded outwards, so that it
+    /// stays beyond in T), where it still has no neighbors: cell keys stay in range.
     point search_point(const point& x, std::size_t index) const {
         check_query_point(x, index);
         point y;
         for (int a = 0; a < D; ++a) {
             const T v = geometry_.wraps[a] ? wrap_into_box(x[a], caller_box(a)) : x[a];
-            y[a] = T(std::clamp(double(v * geometry_.scale), -geometry_.far_bound, geometry_.far_bound));
+            const double s = double(v * geometry_.scale);
+            if (std::abs(s) <= geometry_.far_bound) {
+                y[a] = T(s);
+                continue;
+            }
+            T bound = T(geometry_.far_bound);
+            if (double(bound) < geometry_.far_bound) bound = std::nextafter(bound, std::numeric_limits<T>::infinity());
+            y[a] = s < 0 ? -bound : bound;
         }
         return y;
     }

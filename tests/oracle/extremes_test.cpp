@@ -240,6 +240,15 @@ TEST(OracleExtremes, FarQueryPoints) {
     grid<float, 2> gf(uniform_points<float, 2>(200, -5, 5, 82), 0.5f, opt);
     const std::vector<float> farf = {1e20f, 0, 0, std::numeric_limits<float>::max(), -3e38f, 1};
     for (auto c : gf.query_counts(farf)) EXPECT_EQ(c, 0u);
+    // Found by the grid fuzzer: points far out in float (where the stencil of three cells is
+    // less than one float step) and a query farther out; it was brought back to the stencil's
+    // bound, which rounded onto the points, and got them all as neighbors.
+    const float at = 1.2007186e34f;
+    std::vector<float> clustered = {0, 3314322.5f};
+    for (int k = 0; k < 9; ++k) clustered.insert(clustered.end(), {at, at});
+    grid<float, 2> gc(clustered, 5.6496527e19f, opt);
+    const std::vector<float> beyond = {at, 1.4603335e34f, at, at, at, -1.4603335e34f};
+    check_grid<float, 2>(gc, clustered, 5.6496527e19f, {}, beyond, depth::basic);
 }
 
 // Periodic boxes at extreme scales: the box is scaled with the points.
