@@ -2,12 +2,13 @@
 // against the brute-force oracle (grid_fuzz.cpp: the CPU grid; vulkan_fuzz.cpp: the Vulkan
 // grid), so that one corpus drives both: up to 39 points, a radius or a radius per point, a
 // rule, a kind, a cell size, a box with open and periodic axes, and up to 7 query points
-// (with radii on a grid of radii). Values come from fuzz_input::value: quarter integers times a
+// (with radii on a grid of radii), and a k for the k nearest. Values come from fuzz_input::value: quarter integers times a
 // power of two, special values or raw bit patterns.
 #pragma once
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <tuple>
 #include <cstring>
 #include <type_traits>
 #include <vector>
@@ -25,6 +26,7 @@ struct grid_case {
     T radius = 1;
     grid_options options;
     bool per_point = false;                ///< radii and query radii are given (none for no points)
+    std::size_t k = 1;                     ///< for the k nearest, 1 to 4
 };
 
 /// The case the bytes describe (the order of reads is the corpus's format: keep it).
@@ -51,6 +53,7 @@ grid_case<T, D> decode_grid_case(fuzz_input& in) {
     c.queries.resize(m * D);
     for (auto& v : c.queries) v = in.value<T>(scale);
     for (std::size_t q = 0; c.per_point && q < m; ++q) c.query_radii.push_back(in.value<T>(scale));
+    c.k = 1 + in.below(4);
     return c;
 }
 
@@ -82,6 +85,29 @@ bool same(const csr<T>& a, const csr<T>& b, bool distances) {
     return !distances || (a.distances.size() == b.distances.size() &&
                           (a.distances.empty() ||
                            std::memcmp(a.distances.data(), b.distances.data(), a.distances.size() * sizeof(T)) == 0));
+}
+
+/// The k nearest of each row of `lists` (rows by index, with distances), as the grids order
+/// them: by squared distance in search space, d2(i, j) for row i and entry j, ties by index
+/// (the reported distances alone can tie where the squares do not).
+template <class T, class F>
+csr<T> nearest_rows(const csr<T>& lists, std::size_t k, F&& d2) {
+    csr<T> out;
+    out.offsets.assign(lists.rows() + 1, 0);
+    std::vector<std::tuple<T, std::uint32_t, T>> row;
+    for (std::size_t i = 0; i < lists.rows(); ++i) {
+        row.clear();
+        for (auto e = lists.offsets[i]; e < lists.offsets[i + 1]; ++e)
+            row.emplace_back(d2(i, lists.indices[e]), lists.indices[e], lists.distances[e]);
+        std::sort(row.begin(), row.end());
+        if (row.size() > k) row.resize(k);
+        for (const auto& [square, j, distance] : row) {
+            out.indices.push_back(j);
+            out.distances.push_back(distance);
+        }
+        out.offsets[i + 1] = out.indices.size();
+    }
+    return out;
 }
 
 /// Whether `half` holds, in each row i, exactly the entries of full row i past i (rows by index).

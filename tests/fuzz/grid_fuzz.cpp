@@ -31,7 +31,13 @@ template <class T, int D>
 void run(fuzz_input& in) {
     const grid_case<T, D> c = decode_grid_case<T, D>(in);
     if (std::getenv("FRNN_FUZZ_PRINT")) print(c);
-    const auto& [points, radii, queries, query_radii, radius, o, own_radii] = c;
+    const auto& points = c.points;
+    const auto& radii = c.radii;
+    const auto& queries = c.queries;
+    const auto& query_radii = c.query_radii;
+    const auto& o = c.options;
+    const auto radius = c.radius;
+    const bool own_radii = c.per_point;
     const std::size_t n = points.size() / D;
 
     const auto one = build<T, D>(points, radius, radii, o, 1);
@@ -73,6 +79,18 @@ void run(fuzz_input& in) {
     const csr<T> want = own_radii ? brute_force_lists<T, D>(queries, query_radii, points, radii, o.rule, grid_radius, false, box)
                                   : brute_force_lists<T, D>(queries, points, radius, false, box);
     if (!same(*answer, want, true)) fail("query rows differ from the brute-force oracle");
+
+    // The k nearest, ordered by squared distance in search space (ties by index).
+    const distance_test<T, D> test(grid_radius, one->search_scale(), box);
+    auto from = [&](const std::vector<T>& xs) {
+        return [&](std::size_t i, std::uint32_t j) { return test.scaled_distance_squared(&xs[i * D], &points[std::size_t(j) * D]); };
+    };
+    if (!same(one->nearest(c.k, lo), nearest_rows(lists, c.k, from(points)), true))
+        fail("k nearest differ from the brute-force oracle's");
+    const csr<T> nearest_to_queries =
+        own_radii ? one->query_nearest(queries, query_radii, c.k, lo) : one->query_nearest(queries, c.k, lo);
+    if (!same(nearest_to_queries, nearest_rows(want, c.k, from(queries)), true))
+        fail("k nearest of query points differ from the brute-force oracle's");
 }
 
 }  // namespace

@@ -42,7 +42,11 @@ list_options by_index() {
 
 void float_case(const auto& c, auto dim) {
     constexpr int D = decltype(dim)::value;
-    const auto& [points, radii, queries, query_radii, radius, o, per_point] = c;
+    const auto& points = c.points;
+    const auto& queries = c.queries;
+    const auto& o = c.options;
+    const auto radius = c.radius;
+    const bool per_point = c.per_point;
     const std::size_t n = points.size() / D;
     if (per_point) return;  // the device has one radius: a grid of radii is the CPU's alone
     vulkan::grid<D> g(device());
@@ -69,13 +73,27 @@ void float_case(const auto& c, auto dim) {
     } catch (const error&) {
         return;  // a non-finite query point
     }
-    if (!same(*answer, brute_force_lists<float, D>(queries, points, radius, false, box), true))
-        fail("device query rows differ from the brute-force oracle");
+    const csr<float> want = brute_force_lists<float, D>(queries, points, radius, false, box);
+    if (!same(*answer, want, true)) fail("device query rows differ from the brute-force oracle");
+
+    // The k nearest, ordered by squared distance in search space (ties by index).
+    const distance_test<float, D> test(radius, g.search_scale(), box);
+    auto from = [&](const std::vector<float>& xs) {
+        return [&](std::size_t i, std::uint32_t j) { return test.scaled_distance_squared(&xs[i * D], &points[std::size_t(j) * D]); };
+    };
+    if (!same(g.nearest(c.k, by_index()), nearest_rows(lists, c.k, from(points)), true))
+        fail("device k nearest differ from the brute-force oracle's");
+    if (!same(g.query_nearest(queries, c.k, by_index()), nearest_rows(want, c.k, from(queries)), true))
+        fail("device k nearest of query points differ from the brute-force oracle's");
 }
 
 void double_case(const auto& c, auto dim) {
     constexpr int D = decltype(dim)::value;
-    const auto& [points, radii, queries, query_radii, radius, o, per_point] = c;
+    const auto& points = c.points;
+    const auto& queries = c.queries;
+    const auto& o = c.options;
+    const auto radius = c.radius;
+    const bool per_point = c.per_point;
     if (per_point) return;  // one radius on the device
     const std::span<const double> box(o.periodic);
     for (bool own : {true, false}) {
