@@ -97,18 +97,17 @@ struct distance_test {
             box[a] = caller_box[a] * s;
         }
     }
-    /// Squared distance of a and b in the scaled units (wrapped, minimum image on the periodic
-    /// axes).
+    /// b - a on axis k in the scaled units (wrapped, minimum image on a periodic axis).
+    T scaled_difference(const T* a, const T* b, int k) const {
+        if (!periodic || !(box[k] > 0)) return b[k] * scale - a[k] * scale;
+        const T d = wrap_into_box(b[k], caller_box[k]) * scale - wrap_into_box(a[k], caller_box[k]) * scale;
+        return d - box[k] * std::nearbyint(d / box[k]);
+    }
+    /// Squared distance of a and b in the scaled units.
     T scaled_distance_squared(const T* a, const T* b) const {
         T d2 = 0;
         for (int k = 0; k < D; ++k) {
-            T d;
-            if (periodic && box[k] > 0) {
-                d = wrap_into_box(b[k], caller_box[k]) * scale - wrap_into_box(a[k], caller_box[k]) * scale;
-                d -= box[k] * std::nearbyint(d / box[k]);
-            } else {
-                d = b[k] * scale - a[k] * scale;
-            }
+            const T d = scaled_difference(a, b, k);
             d2 += d * d;
         }
         return d2;

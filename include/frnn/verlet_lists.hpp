@@ -3,7 +3,10 @@
 //
 // update() is O(N) when the lists are still valid and a grid build plus a list query (radius
 // r + skin) otherwise; it reports whether it rebuilt. for_each_neighbor() filters the stored
-// candidates by their current distance, so callers see exactly the pairs within r.
+// candidates by their current distance, so callers see exactly the pairs within r. Distances
+// and displacements are the grid's: in a periodic box between the points wrapped into it, with
+// the minimum image. An update that throws (a non-finite coordinate, a bad size) leaves the
+// lists as they were.
 // Thread safety: const functions may run concurrently; update may not.
 #pragma once
 #include <cmath>
@@ -25,16 +28,30 @@ public:
 
     /// Takes the current coordinates (copied); returns true when the lists were rebuilt.
     bool update(std::span<const T> coords) {
-        current_.assign(coords.begin(), coords.end());
-        test_ = distance_test<T, D>(radius_, search_scale<T>(radius_, largest_magnitude<T>(current_, options_.periodic)),
-                                    options_.periodic);
-        if (built_ && coords.size() == reference_.size() && max_displacement() <= skin_ / 2) return false;
+        if (coords.size() % D != 0)
+            throw error("verlet_lists: coordinate array has " + std::to_string(coords.size()) +
+                        " values, not a multiple of the dimension " + std::to_string(D));
+        for (std::size_t i = 0; i < coords.size(); ++i)
+            if (!std::isfinite(coords[i]))
+                throw error("verlet_lists: point " + std::to_string(i / D) + " has a non-finite coordinate");
+        const distance_test<T, D> test(radius_, search_scale<T>(radius_, largest_magnitude<T>(coords, options_.periodic)),
+                                       options_.periodic);
+        if (built_ && coords.size() == reference_.size() && still_valid(coords, test)) {
+            current_.assign(coords.begin(), coords.end());
+            test_ = test;
+            return false;
+        }
+        // Candidates within (r + skin) (1 + 2^-20): the margin covers the rounding of the
+        // distances and displacements that the skin argument adds up.
+        const T reach = (radius_ + skin_) * (T(1) + T(0x1p-20));
         grid_options o = options_;
-        if (o.cell_size > 0) o.cell_size *= double(radius_ + skin_) / double(radius_);
-        index_.build(coords, radius_ + skin_, o);
+        if (o.cell_size > 0) o.cell_size *= double(reach) / double(radius_);
+        index_.build(coords, reach, o);  // throws before changing anything
         list_options lo;
         lo.order = row_order::index;
         lists_ = index_.neighbor_lists(lo);
+        current_.assign(coords.begin(), coords.end());
+        test_ = test;
         reference_ = current_;
         built_ = true;
         ++rebuilds_;
@@ -49,27 +66,25 @@ public:
             if (test_.within(&current_[i * D], &current_[std::size_t(j) * D], d2)) f(j, test_.distance_squared(d2));
         }
     }
-    /// Candidates within r + skin at the last rebuild (caller's indices, rows sorted).
+    /// Candidates within (r + skin) (1 + 2^-20) at the last rebuild (caller's indices, rows sorted).
     const csr<T>& candidates() const { return lists_; }
     std::size_t rebuilds() const { return rebuilds_; }
     const grid<T, D>& index() const { return index_; }
 
 private:
-    T distance_squared(const T* a, const T* b) const {
-        T d2 = 0;
-        for (int k = 0; k < D; ++k) {
-            T d = b[k] - a[k];
-            if (!options_.periodic.empty() && options_.periodic[k] > 0)  // 0: an open axis
-                d -= T(options_.periodic[k]) * std::nearbyint(d / T(options_.periodic[k]));
-            d2 += d * d;
+    /// Whether no point has moved more than skin/2 since the last rebuild. Moves are measured
+    /// in the test's scaled units (wrapped, minimum image), with hypot, whose result neither
+    /// underflows nor overflows where a sum of squares would (a move of 1e-200 squares to 0 in
+    /// double); a half-skin beyond T's range in those units lets any finite move pass.
+    bool still_valid(std::span<const T> coords, const distance_test<T, D>& test) const {
+        const T half_skin = skin_ / 2 * test.scale;
+        for (std::size_t i = 0; i < coords.size() / D; ++i) {
+            T d[3] = {0, 0, 0};
+            for (int a = 0; a < D; ++a) d[a] = test.scaled_difference(&reference_[i * D], &coords[i * D], a);
+            const T moved = D == 2 ? std::hypot(d[0], d[1]) : std::hypot(d[0], d[1], d[2]);
+            if (!(moved <= half_skin) || std::isinf(moved)) return false;
         }
-        return d2;
-    }
-    T max_displacement() const {
-        T worst = 0;
-        for (std::size_t i = 0; i < current_.size() / D; ++i)
-            worst = std::max(worst, distance_squared(&reference_[i * D], &current_[i * D]));
-        return std::sqrt(worst);
+        return true;
     }
 
     T radius_, skin_;

@@ -2,7 +2,8 @@
 // against the brute-force oracle (grid_fuzz.cpp: the CPU grid; vulkan_fuzz.cpp: the Vulkan
 // grid), so that one corpus drives both: up to 39 points, a radius or a radius per point, a
 // rule, a kind, a cell size, a box with open and periodic axes, and up to 7 query points
-// (with radii on a grid of radii), and a k for the k nearest. Values come from fuzz_input::value: quarter integers times a
+// (with radii on a grid of radii), a k for the k nearest, and a skin and a move of every point
+// for Verlet lists. Values come from fuzz_input::value: quarter integers times a
 // power of two, special values or raw bit patterns.
 #pragma once
 #include <algorithm>
@@ -27,6 +28,8 @@ struct grid_case {
     grid_options options;
     bool per_point = false;                ///< radii and query radii are given (none for no points)
     std::size_t k = 1;                     ///< for the k nearest, 1 to 4
+    T skin = 0;                            ///< for Verlet lists
+    std::vector<T> moves;                  ///< for Verlet lists: a displacement per coordinate
 };
 
 /// The case the bytes describe (the order of reads is the corpus's format: keep it).
@@ -54,6 +57,9 @@ grid_case<T, D> decode_grid_case(fuzz_input& in) {
     for (auto& v : c.queries) v = in.value<T>(scale);
     for (std::size_t q = 0; c.per_point && q < m; ++q) c.query_radii.push_back(in.value<T>(scale));
     c.k = 1 + in.below(4);
+    c.skin = in.value<T>(scale);
+    c.moves.resize(n * D);
+    for (auto& v : c.moves) v = in.value<T>(scale);
     return c;
 }
 
@@ -74,6 +80,8 @@ void print(const grid_case<T, D>& c) {
     };
     rows("point", c.points, c.radii);
     rows("query", c.queries, c.query_radii);
+    std::fprintf(stderr, "  k %zu, skin %.17g\n", c.k, double(c.skin));
+    rows("move", c.moves, {});
 }
 
 /// Whether two lists are the same: offsets, indices and (when `distances`) distances bit for bit.

@@ -1,6 +1,7 @@
 // Differential fuzzing of the core: a grid built from the fuzzer's points, radius (or radii),
 // box and options answers exactly as the brute-force oracle, at one and two threads; a build
-// may refuse its input with frnn::error, which both thread counts must then do.
+// may refuse its input with frnn::error, which both thread counts must then do. Verlet lists
+// over the same points, then over moved points, give the oracle's neighbors too.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include "frnn/brute_force.hpp"
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
+#include "frnn/verlet_lists.hpp"
 #include "grid_case.hpp"
 
 namespace frnn::fuzz {
@@ -25,6 +27,43 @@ std::optional<grid<T, D>> build(std::span<const T> points, T radius, std::span<c
     } catch (const error&) {
         return std::nullopt;
     }
+}
+
+/// Whether Verlet lists give the oracle's neighbors at `at`.
+template <class T, int D>
+bool verlet_matches(const verlet_lists<T, D>& v, const std::vector<T>& at, T radius, std::span<const double> box) {
+    const csr<T> want = brute_force_lists<T, D>(at, at, radius, true, box);
+    std::vector<std::uint32_t> row;
+    for (std::size_t i = 0; i < at.size() / D; ++i) {
+        row.clear();
+        v.for_each_neighbor(i, [&](std::uint32_t j, T) { row.push_back(j); });
+        if (!std::equal(row.begin(), row.end(), want.row(i).begin(), want.row(i).end())) return false;
+    }
+    return true;
+}
+
+/// Verlet lists at the points, then at the moved points (kept or rebuilt); a refused update
+/// leaves the lists of the points before it.
+template <class T, int D>
+void check_verlet_lists(const grid_case<T, D>& c) {
+    const std::span<const double> box(c.options.periodic);
+    std::optional<verlet_lists<T, D>> v;
+    try {
+        v.emplace(c.radius, c.skin, c.options);
+        v->update(c.points);
+    } catch (const error&) {
+        return;
+    }
+    if (!verlet_matches(*v, c.points, c.radius, box)) fail("Verlet lists differ from the brute-force oracle");
+    std::vector<T> moved = c.points;
+    for (std::size_t i = 0; i < moved.size(); ++i) moved[i] += c.moves[i];
+    try {
+        v->update(moved);
+    } catch (const error&) {
+        if (!verlet_matches(*v, c.points, c.radius, box)) fail("a refused Verlet update changed the lists");
+        return;
+    }
+    if (!verlet_matches(*v, moved, c.radius, box)) fail("Verlet lists after a move differ from the brute-force oracle");
 }
 
 template <class T, int D>
@@ -91,6 +130,7 @@ void run(fuzz_input& in) {
         own_radii ? one->query_nearest(queries, query_radii, c.k, lo) : one->query_nearest(queries, c.k, lo);
     if (!same(nearest_to_queries, nearest_rows(want, c.k, from(queries)), true))
         fail("k nearest of query points differ from the brute-force oracle's");
+    if (!own_radii) check_verlet_lists(c);
 }
 
 }  // namespace

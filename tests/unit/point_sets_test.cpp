@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include "frnn/frnn.hpp"
@@ -62,6 +63,52 @@ TEST(verlet_lists, stay_exact_while_points_move_and_rebuild_only_when_needed) {
     EXPECT_GE(rebuilt, 1u);
     EXPECT_LT(rebuilt, 12u);
     EXPECT_EQ(v.rebuilds(), rebuilt + 1);
+}
+
+/// Rows of v at `at` against brute force (box: periodic lengths, or empty).
+template <class T, int D>
+void expect_exact(const frnn::verlet_lists<T, D>& v, const std::vector<T>& at, T r, const std::vector<double>& box,
+                  const char* what) {
+    const auto ref = frnn::brute_force_lists<T, D>(at, at, r, true, box);
+    for (std::size_t i = 0; i < at.size() / D; ++i) {
+        std::vector<std::uint32_t> got;
+        v.for_each_neighbor(i, [&](std::uint32_t j, T) { got.push_back(j); });
+        const auto want = ref.row(i);
+        ASSERT_EQ(got, std::vector<std::uint32_t>(want.begin(), want.end())) << what << ", point " << i;
+    }
+}
+
+// Found by the grid fuzzer: with r = 1e-295 (double) a move of 1e-294 squared to 0, so the
+// lists were kept although a point had moved more than the half-skin, and a new pair was
+// missed. Moves are now measured without squaring away their size.
+TEST(verlet_lists, moves_far_beyond_the_skin_at_tiny_scales_rebuild) {
+    const double r = 1e-295, skin = 1e-295;
+    std::vector<double> p = {0, 0, 1e-294, 0, 0, 1e-294};  // no pair, no candidate
+    frnn::verlet_lists<double, 2> v(r, skin);
+    v.update(p);
+    expect_exact(v, p, r, {}, "built");
+    p[2] = 5e-296;  // moved 9.5e-295, more than skin / 2: now a pair
+    EXPECT_TRUE(v.update(p));
+    expect_exact(v, p, r, {}, "moved");
+}
+
+// A refused update (a NaN, a size that is not a multiple of D) throws and leaves the lists of
+// the positions before it; a point that crosses a periodic face, or moves whole boxes, counts
+// its move by the minimum image.
+TEST(verlet_lists, refused_updates_keep_the_lists_and_periodic_moves_wrap) {
+    std::vector<float> p = cloud(300, 6, 5);
+    frnn::grid_options o;
+    o.periodic = {6, 6, 6};
+    frnn::verlet_lists<float, 3> v(0.9f, 0.3f, o);
+    v.update(p);
+    std::vector<float> bad = p;
+    bad[7] = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(v.update(bad), frnn::error);
+    EXPECT_THROW(v.update(std::vector<float>(p.begin(), p.end() - 1)), frnn::error);
+    expect_exact(v, p, 0.9f, o.periodic, "after refused updates");
+    for (std::size_t i = 0; i < p.size(); i += 3) p[i] += i % 2 ? 6.0f : -12.0f;  // whole boxes: no move
+    EXPECT_FALSE(v.update(p));
+    expect_exact(v, p, 0.9f, o.periodic, "whole boxes away");
 }
 
 }  // namespace
