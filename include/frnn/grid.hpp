@@ -373,7 +373,8 @@ private:
 
     // Build scratch, kept for rebuilds.
     std::vector<std::uint32_t> thread_counts_;
-    detail::build_scratch scratch_;  // the build's slots of the input points, then records or slots by bucket
+    detail::build_scratch<> scratch_;  // the build's slots of the input points, then records or slots by bucket
+    detail::build_scratch<T> search_input_;  // the input points in search space when they differ from the caller's
 };
 
 template <class T, int D>

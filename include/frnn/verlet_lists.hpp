@@ -41,9 +41,9 @@ public:
             test_ = test;
             return false;
         }
-        // Candidates within (r + skin) (1 + 2^-20): the margin covers the rounding of the
+        // Candidates within (r + skin) (1 + 2^-16): the margin covers the rounding of the
         // distances and displacements that the skin argument adds up.
-        const T reach = (radius_ + skin_) * (T(1) + T(0x1p-20));
+        const T reach = (radius_ + skin_) * (T(1) + T(0x1p-16));
         grid_options o = options_;
         if (o.cell_size > 0) o.cell_size *= double(reach) / double(radius_);
         index_.build(coords, reach, o);  // throws before changing anything
@@ -66,21 +66,31 @@ public:
             if (test_.within(&current_[i * D], &current_[std::size_t(j) * D], d2)) f(j, test_.distance_squared(d2));
         }
     }
-    /// Candidates within (r + skin) (1 + 2^-20) at the last rebuild (caller's indices, rows sorted).
+    /// Candidates within (r + skin) (1 + 2^-16) at the last rebuild (caller's indices, rows sorted).
     const csr<T>& candidates() const { return lists_; }
     std::size_t rebuilds() const { return rebuilds_; }
     const grid<T, D>& index() const { return index_; }
 
 private:
     /// Whether no point has moved more than skin/2 since the last rebuild. Moves are measured
-    /// in the test's scaled units (wrapped, minimum image), with hypot, whose result neither
-    /// underflows nor overflows where a sum of squares would (a move of 1e-200 squares to 0 in
-    /// double); a half-skin beyond T's range in those units lets any finite move pass.
+    /// in the test's scaled units (wrapped, minimum image) by their square where it and the
+    /// half-skin's are normal numbers, else with hypot, which neither underflows nor overflows
+    /// (a move of 1e-200 squares to 0 in double); a half-skin beyond T's range in those units
+    /// lets any finite move pass.
     bool still_valid(std::span<const T> coords, const distance_test<T, D>& test) const {
-        const T half_skin = skin_ / 2 * test.scale;
+        const T half_skin = skin_ / 2 * test.scale, half_skin2 = half_skin * half_skin;
+        const bool squares = std::isnormal(half_skin2);
         for (std::size_t i = 0; i < coords.size() / D; ++i) {
             T d[3] = {0, 0, 0};
-            for (int a = 0; a < D; ++a) d[a] = test.scaled_difference(&reference_[i * D], &coords[i * D], a);
+            T d2 = 0;
+            for (int a = 0; a < D; ++a) {
+                d[a] = test.scaled_difference(&reference_[i * D], &coords[i * D], a);
+                d2 += d[a] * d[a];
+            }
+            if (squares && (std::isnormal(d2) || (d[0] == 0 && d[1] == 0 && d[2] == 0))) {
+                if (!(d2 <= half_skin2)) return false;
+                continue;
+            }
             const T moved = D == 2 ? std::hypot(d[0], d[1]) : std::hypot(d[0], d[1], d[2]);
             if (!(moved <= half_skin) || std::isinf(moved)) return false;
         }

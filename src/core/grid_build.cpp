@@ -75,12 +75,12 @@ void grid<T, D>::clear() noexcept {
     point_r2_ = buffer<T>();
     radii_ = {};
     thread_counts_ = {};
-    scratch_.bytes = buffer<std::byte>();
+    scratch_.values = buffer<std::byte>();
+    search_input_.values = buffer<T>();
     occupied_ = {};
     shared_slots_ = {};
     try {
-        std::vector<T> none;
-        geometry_ = detail::plan_geometry<T, D>({}, radius_, options_, none);
+        geometry_ = detail::plan_geometry<T, D>({}, radius_, options_, search_input_.values);
         sort_into_cells({});
     } catch (...) {
         // Not even an empty grid's few bytes: size() is 0 already (perm_ is empty).
@@ -113,16 +113,19 @@ void grid<T, D>::build(std::span<const T> coords, std::span<const T> radii, cons
 template <class T, int D>
 void grid<T, D>::build_planned(std::span<const T> coords, T radius, const grid_options& options, bool per_point,
                                std::vector<T> radii) {
-    std::vector<T> scaled;
-    const grid_geometry<T> planned = detail::plan_geometry<T, D>(coords, radius, options, scaled);
+    buffer<T>& search_input = search_input_.values;
+    const grid_geometry<T> planned = detail::plan_geometry<T, D>(coords, radius, options, search_input);
     if (&options != &options_) options_ = options;
     radius_ = radius;
     geometry_ = planned;
     point_radii_ = per_point;
     try {
         radii_ = std::move(radii);
-        sort_into_cells(scaled.empty() ? coords : std::span<const T>(scaled));
-        keep_input_coordinates(coords, !scaled.empty());
+        const bool differ = !search_input.empty();
+        sort_into_cells(differ ? std::span<const T>(search_input) : coords);
+        keep_input_coordinates(coords, differ);
+        auto* const input_bytes = reinterpret_cast<std::byte*>(search_input.data());
+        detail::free_lazily(input_bytes, input_bytes + search_input.size() * sizeof(T));
         keep_point_radii();
     } catch (...) {
         clear();
@@ -181,13 +184,17 @@ void grid<T, D>::require_one_radius(const char* what) const {
 template <class T, int D>
 void grid<T, D>::keep_input_coordinates(std::span<const T> coords, bool differ) {
     for (int a = 0; a < D; ++a) {
-        if (!differ) {
-            input_pos_[a] = buffer<T>();
-            continue;
-        }
-        input_pos_[a].resize(size());
-        for (std::size_t s = 0; s < size(); ++s) input_pos_[a][s] = coords[std::size_t(perm_[s]) * D + a];
+        if (!differ) input_pos_[a] = buffer<T>();
+        else input_pos_[a].resize(size());
     }
+    if (!differ) return;
+    const int t = threads();
+    detail::for_each_chunk(size(), detail::chunk_count(size(), t, 1 << 14), t, [&](std::size_t, std::size_t b, std::size_t e) {
+        for (std::size_t s = b; s < e; ++s) {
+            const T* x = &coords[std::size_t(perm_[s]) * D];
+            for (int a = 0; a < D; ++a) input_pos_[a][s] = x[a];
+        }
+    });
 }
 
 template <class T, int D>
@@ -242,12 +249,12 @@ void grid<T, D>::sort_into_cells(std::span<const T> coords) {
     const int threads = resolve_thread_count(options_.threads);
     const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, n / 4096));
     size_sort_arrays(n, parts);
-    std::uint32_t* const slot_of = reinterpret_cast<std::uint32_t*>(scratch_.bytes.data());
+    std::uint32_t* const slot_of = reinterpret_cast<std::uint32_t*>(scratch_.values.data());
     const bool nearly_sorted = count_slots(coords, slot_of, parts);
     start_chunks_in_cells(parts);
     detail::exclusive_scan(offsets_.data(), geometry_.slots + 1, threads);
     scatter_into_cells(coords, slot_of, nearly_sorted, parts);
-    detail::free_lazily(scratch_.bytes.data(), scratch_.bytes.data() + scratch_.bytes.size());
+    detail::free_lazily(scratch_.values.data(), scratch_.values.data() + scratch_.values.size());
     index_cells();
 }
 
@@ -280,7 +287,7 @@ void grid<T, D>::size_sort_arrays(std::size_t n, std::size_t parts) {
     offsets_.assign(geometry_.slots + 1, 0);
     thread_counts_.assign(parts * geometry_.slots, 0);
     const scratch_layout<T, D> layout(n);
-    buffer<std::byte>& scratch = scratch_.bytes;
+    buffer<std::byte>& scratch = scratch_.values;
     if (scratch.capacity() < layout.slot_bytes + layout.extra_bytes) scratch = buffer<std::byte>();  // no copy
     scratch.resize(layout.slot_bytes + layout.extra_bytes);
 }
@@ -341,7 +348,7 @@ void grid<T, D>::scatter_into_cells(std::span<const T> coords, const std::uint32
     const int threads = resolve_thread_count(options_.threads);
     using record = point_record<T, D>;
     const scratch_layout<T, D> layout(n);
-    std::byte* const extra = scratch_.bytes.data() + layout.slot_bytes;
+    std::byte* const extra = scratch_.values.data() + layout.slot_bytes;
     if (nearly_sorted) {
         detail::for_each_chunk(n, parts, threads, [&](std::size_t c, std::size_t b, std::size_t e) {
             std::uint32_t* next = thread_counts_.data() + c * geometry_.slots;

@@ -42,7 +42,8 @@ std::string fmt_double(double v) {
 // Validates the input and chooses the geometry: search scale, kind, cell size, reach,
 // dimensions. Changes nothing, so that a build that throws leaves the grid as it was.
 template <class T, int D>
-grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_options& o, std::vector<T>& scaled) {
+grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_options& o, buffer<T>& scaled) {
+    scaled.clear();  // a build's scratch: its memory stays for the next build
     grid_geometry<T> l;
     if (!std::isfinite(radius) || radius <= 0)
         throw error("radius must be finite and > 0 (got " + fmt_double(double(radius)) + ")");
@@ -203,12 +204,12 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
 }
 
 template grid_geometry<float> plan_geometry<float, 2>(std::span<const float>, float, const grid_options&,
-                                                      std::vector<float>&);
+                                                      buffer<float>&);
 template grid_geometry<float> plan_geometry<float, 3>(std::span<const float>, float, const grid_options&,
-                                                      std::vector<float>&);
+                                                      buffer<float>&);
 template grid_geometry<double> plan_geometry<double, 2>(std::span<const double>, double, const grid_options&,
-                                                        std::vector<double>&);
+                                                        buffer<double>&);
 template grid_geometry<double> plan_geometry<double, 3>(std::span<const double>, double, const grid_options&,
-                                                        std::vector<double>&);
+                                                        buffer<double>&);
 
 }  // namespace frnn::detail

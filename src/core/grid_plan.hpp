@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "frnn/buffer.hpp"
 #include "frnn/grid_geometry.hpp"
 #include "frnn/options.hpp"
 
@@ -11,10 +12,11 @@ namespace frnn::detail {
 
 /// Validates a build's input (radius, coordinates, cell size, box, domain) and chooses the
 /// geometry of a grid<T, D> over `coords`: search scale, kind, cell size, reach, cells per axis
-/// or table slots. Changes nothing; `scaled` receives the coordinates in search space when the
-/// search scale is not 1. Throws frnn::error naming what is wrong and where.
+/// or table slots. Changes nothing but `search_input`, a build's scratch: the coordinates in
+/// search space (wrapped into a periodic box, then scaled) when they differ from the caller's,
+/// else empty. Throws frnn::error naming what is wrong and where.
 template <class T, int D>
 grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_options& options,
-                               std::vector<T>& scaled);
+                               buffer<T>& search_input);
 
 }  // namespace frnn::detail

@@ -41,8 +41,9 @@ private:
 
 /// Memory a grid keeps between its builds for their scratch (the system may take it back in
 /// between, see free_lazily). A copy of the grid starts without it.
+template <class U = std::byte>
 struct build_scratch {
-    buffer<std::byte> bytes;
+    buffer<U> values;
     build_scratch() = default;
     build_scratch(const build_scratch&) {}
     build_scratch& operator=(const build_scratch&) { return *this; }
