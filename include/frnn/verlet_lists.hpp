@@ -22,6 +22,8 @@ template <class T, int D>
 class verlet_lists {
 public:
     verlet_lists(T radius, T skin, grid_options options = {}) : radius_(radius), skin_(skin), options_(std::move(options)) {
+        if (!std::isfinite(double(radius)) || !(radius > 0))
+            throw error("radius must be finite and > 0 (got " + std::to_string(double(radius)) + ")");
         if (!std::isfinite(double(skin)) || skin < 0)
             throw error("skin must be finite and >= 0 (got " + std::to_string(double(skin)) + ")");
     }

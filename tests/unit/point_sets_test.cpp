@@ -93,7 +93,7 @@ TEST(verlet_lists, moves_far_beyond_the_skin_at_tiny_scales_rebuild) {
 }
 
 // A refused update (a NaN, a size that is not a multiple of D) throws and leaves the lists of
-// the positions before it; a point that crosses a periodic face, or moves whole boxes, counts
+// the positions before it (a NaN or negative radius is refused at construction); a point that crosses a periodic face, or moves whole boxes, counts
 // its move by the minimum image.
 TEST(verlet_lists, refused_updates_keep_the_lists_and_periodic_moves_wrap) {
     std::vector<float> p = cloud(300, 6, 5);
@@ -105,6 +105,8 @@ TEST(verlet_lists, refused_updates_keep_the_lists_and_periodic_moves_wrap) {
     bad[7] = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(v.update(bad), frnn::error);
     EXPECT_THROW(v.update(std::vector<float>(p.begin(), p.end() - 1)), frnn::error);
+    EXPECT_THROW((frnn::verlet_lists<float, 3>(std::numeric_limits<float>::quiet_NaN(), 0.3f)), frnn::error);
+    EXPECT_THROW((frnn::verlet_lists<float, 3>(-1.0f, 0.3f)), frnn::error);
     expect_exact(v, p, 0.9f, o.periodic, "after refused updates");
     for (std::size_t i = 0; i < p.size(); i += 3) p[i] += i % 2 ? 6.0f : -12.0f;  // whole boxes: no move
     EXPECT_FALSE(v.update(p));
