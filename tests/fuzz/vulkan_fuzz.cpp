@@ -42,20 +42,18 @@ list_options by_index() {
 
 void float_case(const auto& c, auto dim) {
     constexpr int D = decltype(dim)::value;
+    if (c.per_point) return;  // the device has one radius: a grid of radii is the CPU's alone
     const auto& points = c.points;
     const auto& queries = c.queries;
-    const auto& o = c.options;
     const auto radius = c.radius;
-    const bool per_point = c.per_point;
     const std::size_t n = points.size() / D;
-    if (per_point) return;  // the device has one radius: a grid of radii is the CPU's alone
     vulkan::grid<D> g(device());
     try {
-        g.build(points, radius, o);
+        g.build(points, radius, c.options);
     } catch (const error&) {
         return;
     }
-    const std::span<const double> box(o.periodic);
+    const std::span<const double> box(c.options.periodic);
     const csr<float> lists = g.neighbor_lists(by_index());
     if (!same(lists, brute_force_lists<float, D>(points, points, radius, true, box), true))
         fail("device lists differ from the brute-force oracle");
@@ -89,18 +87,16 @@ void float_case(const auto& c, auto dim) {
 
 void double_case(const auto& c, auto dim) {
     constexpr int D = decltype(dim)::value;
+    if (c.per_point) return;  // one radius on the device
     const auto& points = c.points;
     const auto& queries = c.queries;
-    const auto& o = c.options;
     const auto radius = c.radius;
-    const bool per_point = c.per_point;
-    if (per_point) return;  // one radius on the device
-    const std::span<const double> box(o.periodic);
+    const std::span<const double> box(c.options.periodic);
     for (bool own : {true, false}) {
         if (!own && queries.empty()) continue;  // the search would list the points' own rows
         std::optional<csr<double>> got;
         try {
-            got = vulkan::search(device(), points, D, radius, o, by_index(), own ? std::span<const double>() : queries).lists;
+            got = vulkan::search(device(), points, D, radius, c.options, by_index(), own ? std::span<const double>() : queries).lists;
         } catch (const error&) {
             continue;
         }
