@@ -88,7 +88,7 @@ void grid<T, D>::clear() noexcept {
 }
 
 // 1. Plan the geometry (checks everything, changes nothing), 2. take it, 3. sort the points
-// into cells and index them, 4. keep the caller's coordinates when the search scale is not 1
+// into cells and index them, 4. keep the caller's coordinates when the search ones differ (scaled or wrapped)
 // (5. and the points' radii in cell order). A failure after step 1 leaves the grid empty.
 template <class T, int D>
 void grid<T, D>::build(std::span<const T> coords, T radius, const grid_options& options) {
