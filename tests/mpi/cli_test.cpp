@@ -1,10 +1,11 @@
 // `mpirun -np P frnn query`: the output file is byte-identical to the single-process tool's at
-// P = 1..4 on every oracle set and through every reading path (.npy slices in C and Fortran
-// order, files read on rank 0 and scattered); the --json summary adds up; bad input stops every
-// rank with one clear message and no file; a killed rank ends the job within seconds.
+// P = 1..4 (rank_counts()) on every oracle set and through every reading path (.npy slices in C
+// and Fortran order, files read on rank 0 and scattered); the --json summary adds up; bad input
+// stops every rank with one clear message and no file; a killed rank ends the job within seconds.
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "cli/run_tool.hpp"
@@ -23,6 +24,25 @@ command_result run_mpi(const std::filesystem::path& dir, int ranks, const std::s
                                 " " + tool + " " + args);
 }
 
+/// The rank counts the byte-identity checks run at: 1 to 4, or those listed in
+/// FRNN_MPI_CLI_RANKS (the sanitizer tree runs 1 and 3, tests/mpi/CMakeLists.txt).
+std::vector<int> rank_counts() {
+    const char* listed = std::getenv("FRNN_MPI_CLI_RANKS");
+    if (!listed) return {1, 2, 3, 4};
+    std::vector<int> counts;
+    for (const char* p = listed; *p;) {
+        char* end = nullptr;
+        const long n = std::strtol(p, &end, 10);
+        if (end == p || n < 1 || n > 64) {
+            ADD_FAILURE() << "FRNN_MPI_CLI_RANKS=" << listed << ": expected rank counts such as 1,3";
+            return {1, 2, 3, 4};
+        }
+        counts.push_back(int(n));
+        p = *end == ',' ? end + 1 : end;
+    }
+    return counts;
+}
+
 /// The names in `dir`, sorted: what a failed run must leave is only what was there before.
 std::vector<std::string> listing(const std::filesystem::path& dir) {
     std::vector<std::string> names;
@@ -37,7 +57,7 @@ std::size_t occurrences(const std::string& text, const std::string& part) {
     return n;
 }
 
-/// Writes `points` as `input`, runs the serial tool and mpirun at 1..4 ranks with `options`,
+/// Writes `points` as `input`, runs the serial tool and mpirun at rank_counts() with `options`,
 /// and compares the output files byte for byte.
 template <class T, int D>
 void expect_same_files(const char* name, const std::vector<T>& points, const std::string& input, const std::string& output,
@@ -60,7 +80,7 @@ void expect_same_files(const char* name, const std::vector<T>& points, const std
     const tool_result serial = run_tool(dir, "query " + input + " " + options + " -o serial" + output);
     ASSERT_EQ(serial.code, 0) << serial.err;
     const std::string expected = read_bytes(dir / ("serial" + output));
-    for (int ranks = 1; ranks <= 4; ++ranks) {
+    for (int ranks : rank_counts()) {
         const std::string file = "mpi" + std::to_string(ranks) + output;
         const command_result r = run_mpi(dir, ranks, "query " + input + " " + options + " -o " + file);
         ASSERT_EQ(r.code, 0) << ranks << " ranks: " << r.err;

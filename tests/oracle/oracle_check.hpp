@@ -548,4 +548,18 @@ void check_kinds_and_cells(const std::vector<T>& pts, T r, const std::vector<T>&
     }
 }
 
+// The checks are instantiated once, in oracle_check.cpp, for the four point types: every
+// test file uses them, and compiling them in each file took most of its build time.
+#define FRNN_ORACLE_CHECKS(prefix, T, D)                                                              \
+    prefix template std::string check_structure<T, D>(const grid<T, D>&, std::span<const T>);          \
+    prefix template void check_grid<T, D>(const grid<T, D>&, std::span<const T>, T, std::span<const double>, \
+                                          std::span<const T>, depth, radii_spec<T>);                   \
+    prefix template void check_all<T, D>(const std::vector<T>&, T, grid_options, const std::vector<T>&, depth); \
+    prefix template void check_kinds_and_cells<T, D>(const std::vector<T>&, T, const std::vector<T>&,   \
+                                                     std::initializer_list<double>, const grid_options&);
+FRNN_ORACLE_CHECKS(extern, float, 2)
+FRNN_ORACLE_CHECKS(extern, float, 3)
+FRNN_ORACLE_CHECKS(extern, double, 2)
+FRNN_ORACLE_CHECKS(extern, double, 3)
+
 }  // namespace frnn::test
