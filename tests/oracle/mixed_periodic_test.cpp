@@ -30,7 +30,10 @@ std::vector<T> in_channel(std::size_t n, const std::vector<double>& box, double 
 
 std::string describe_box(const std::vector<double>& box) {
     std::string s = "box";
-    for (double v : box) s += " " + (v > 0 ? std::to_string(v) : std::string("open"));
+    for (double v : box) {
+        s += ' ';
+        s += v > 0 ? std::to_string(v) : "open";
+    }
     return s;
 }
 
