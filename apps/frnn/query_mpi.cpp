@@ -19,7 +19,6 @@
 #include "frnn/io/write.hpp"
 #include "frnn/mpi/collective_error.hpp"
 #include "frnn/mpi/domain.hpp"
-#include "frnn/periodic_wrap.hpp"
 #include "command.hpp"
 #include "mpi_input.hpp"
 #include "mpi_output.hpp"
@@ -123,12 +122,6 @@ void search(MPI_Comm comm, const query_args& a, const input_slice& in, mpi_repor
     std::iota(ids.begin(), ids.end(), in.first);
     mpi::domain_options options;
     options.periodic = a.periodic.empty() ? std::vector<double>{} : parse_periodic(a.periodic);
-    // The domain takes particles in the box; the single-process grid wraps the others into it
-    // (frnn/periodic_wrap.hpp), and so does this, for the same answer.
-    for (std::size_t i = 0; i < coords.size(); ++i) {
-        const double length = options.periodic.empty() ? 0 : options.periodic[i % D];
-        if (length > 0) coords[i] = wrap_into_box(coords[i], T(length));
-    }
     options.threads = a.threads;
     mpi::domain<T, D> d(comm, T(a.radius), options);
     d.balance(coords, ids);

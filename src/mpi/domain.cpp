@@ -12,6 +12,7 @@
 
 #include "frnn/detail/stopwatch.hpp"
 #include "frnn/mpi/collective_error.hpp"
+#include "frnn/periodic_wrap.hpp"
 #include "frnn/search_scale.hpp"
 #include "mpi/check_points.hpp"
 
@@ -75,8 +76,15 @@ const distributor& domain<T, D>::balance(std::vector<T>& coords, std::vector<std
     if (coords.size() != ids.size() * D)
         problem = "balance: " + std::to_string(coords.size()) + " coordinates for " + std::to_string(ids.size()) + " ids";
     else
-        problem = check_points<T, D>(coords, options_.periodic, weights ? std::span<const double>(*weights) : std::span<const double>());
+        problem = check_points<T, D>(coords, {}, weights ? std::span<const double>(*weights) : std::span<const double>());
     throw_if_any(comm_, problem);
+    // Particles that left the periodic box since the last balance come back into it, wrapped
+    // as the single-process grid wraps them. The result lies below the box length in T, and so
+    // below the length itself: T(L) > L is the T nearest to L.
+    for (std::size_t i = 0; i < coords.size() && !options_.periodic.empty(); ++i) {
+        const double length = options_.periodic[i % D];
+        if (length > 0) coords[i] = wrap_into_box(coords[i], T(length));
+    }
     int again = rebalance || !have_cuts_;
     MPI_Allreduce(MPI_IN_PLACE, &again, 1, MPI_INT, MPI_MAX, comm_);
     if (!again) {

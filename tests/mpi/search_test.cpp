@@ -3,6 +3,7 @@
 // (spread over the ranks, or all on rank 0) and for float and double, 2D and 3D.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iterator>
 
 #include "frnn/mpi/domain.hpp"
@@ -62,6 +63,13 @@ void check_set(const std::vector<T>& points, T radius, const std::vector<double>
         options.skin = 0.1 * double(radius);
         mpi::domain<T, D> domain(MPI_COMM_WORLD, radius, options);
         domain.balance(coords, ids);
+        for (std::size_t i = 0; i < coords.size() && !periodic.empty(); ++i) {
+            const double length = periodic[i % D];
+            if (length > 0 && !(coords[i] >= 0 && double(coords[i]) < length)) {
+                ADD_FAILURE() << "balance left coordinate " << i << " = " << coords[i] << " outside [0, " << length << ")";
+                break;
+            }
+        }
         domain.build(coords, ids);
         expect_partition(ids, points.size() / D);
         const auto expected = reference_pairs<T, D>(points, radius, periodic, ids);
@@ -79,6 +87,19 @@ void check_set(const std::vector<T>& points, T radius, const std::vector<double>
     }
 }
 
+/// n points uniform in `box`, [0, L) on each periodic axis (rounding that lands on L is folded
+/// back to 0) and [0, 6) on each open axis (length 0).
+template <class T, int D>
+std::vector<T> points_in_box(std::size_t n, const std::vector<double>& box, std::uint64_t seed) {
+    std::vector<T> points = uniform_points<T, D>(n, 0, 1, seed);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const double length = box[i % D] > 0 ? box[i % D] : 6.0;
+        points[i] = T(points[i] * length);
+        if (box[i % D] > 0 && double(points[i]) >= length) points[i] = 0;
+    }
+    return points;
+}
+
 TYPED_TEST(MpiSearch, RandomSets) {
     using T = typename TypeParam::T;
     constexpr int D = TypeParam::D;
@@ -91,15 +112,30 @@ TYPED_TEST(MpiSearch, PeriodicBoxes) {
     using T = typename TypeParam::T;
     constexpr int D = TypeParam::D;
     const std::vector<double> box = D == 2 ? std::vector<double>{8, 6} : std::vector<double>{8, 6, 7};
-    std::vector<T> points = uniform_points<T, D>(D == 2 ? 900 : 1200, 0, 1, 21);
-    for (std::size_t i = 0; i < points.size(); ++i) points[i] = T(points[i] * box[i % D]);
-    // Rounding may leave a scaled point on L itself: fold it back into [0, L).
-    for (std::size_t i = 0; i < points.size(); ++i)
-        if (double(points[i]) >= box[i % D]) points[i] = 0;
-    check_set<T, D>(points, T(1.1), box, "uniform in a box");
+    check_set<T, D>(points_in_box<T, D>(D == 2 ? 900 : 1200, box, 21), T(1.1), box, "uniform in a box");
     // A lattice whose spacing is the radius: pairs at exactly r, across the box's faces too.
     const int side = D == 2 ? 12 : 7;
     check_set<T, D>(lattice_points<T, D>(side, 1.0), T(1), std::vector<double>(D, side), "periodic lattice at exactly r");
+}
+
+// Particles outside the box, as an MD code's are after they crossed a face: balance wraps
+// them as the single-process grid does (frnn/periodic_wrap.hpp), and the pairs are the
+// oracle's, which wraps too. Some lie one to three boxes out, some 10^6 boxes out.
+TYPED_TEST(MpiSearch, PeriodicBoxesWithParticlesOutside) {
+    using T = typename TypeParam::T;
+    constexpr int D = TypeParam::D;
+    const std::vector<double> box = D == 2 ? std::vector<double>{8, 6} : std::vector<double>{8, 6, 7};
+    std::vector<T> points = points_in_box<T, D>(D == 2 ? 900 : 1200, box, 23);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const std::size_t p = i / D;
+        const double boxes = p % 50 == 0 ? 1e6 : p % 5 == 0 ? double(int(p % 7) - 3) : 0.0;
+        points[i] = T(double(points[i]) + boxes * box[i % D]);
+    }
+    check_set<T, D>(points, T(1.1), box, "particles outside the box");
+    std::vector<double> channel = box;
+    channel[1] = 0;
+    for (std::size_t i = 1; i < points.size(); i += D) points[i] = T(std::fmod(std::abs(double(points[i])), 6.0));
+    check_set<T, D>(points, T(1.1), channel, "particles outside a channel periodic but on y");
 }
 
 // Periodic on some axes only (0 on the open ones): a channel with a far outlier on its open
@@ -108,11 +144,7 @@ TYPED_TEST(MpiSearch, PeriodicOnSomeAxes) {
     using T = typename TypeParam::T;
     constexpr int D = TypeParam::D;
     const std::vector<double> box = D == 2 ? std::vector<double>{8, 0} : std::vector<double>{8, 0, 7};
-    std::vector<T> points = uniform_points<T, D>(D == 2 ? 900 : 1200, 0, 1, 25);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        points[i] = T(points[i] * (box[i % D] > 0 ? box[i % D] : 6.0));
-        if (box[i % D] > 0 && double(points[i]) >= box[i % D]) points[i] = 0;
-    }
+    std::vector<T> points = points_in_box<T, D>(D == 2 ? 900 : 1200, box, 25);
     for (double y : {1e6, -1e6, 1e6 + 0.25}) {
         for (int a = 0; a < D; ++a) points.push_back(T(a == 1 ? y : 1.0));
     }

@@ -1,10 +1,12 @@
 // frnn::mpi::domain: the fixed-radius neighbor search across MPI ranks.
 //
 // Every particle carries a global id (uint64). A time step:
-//   balance(coords, ids)  moves every particle to the rank that owns its place (recursive
-//                         coordinate bisection, recomputed when asked, on the first call, or
-//                         when the load imbalance exceeds options.imbalance) and returns the
-//                         distributor that moved them: migrate the caller's other fields with it;
+//   balance(coords, ids)  wraps particles outside the periodic box into it (as frnn::grid
+//                         does, frnn/periodic_wrap.hpp), moves every particle to the rank that
+//                         owns its place (recursive coordinate bisection, recomputed when asked,
+//                         on the first call, or when the load imbalance exceeds
+//                         options.imbalance) and returns the distributor that moved them:
+//                         migrate the caller's other fields with it;
 //   build(coords, ids)    receives the ghosts (particles within r + skin of this rank's
 //                         sub-domain, periodic images shifted) and builds frnn's CPU grid over
 //                         local + ghost particles;
@@ -16,8 +18,8 @@
 // distance formula, minimum image when periodic), whatever the number of ranks or threads.
 //
 // Bad input on any rank (ranks disagreeing on the radius, the box or the skin, non-finite
-// coordinates, points outside the periodic box, fewer particles than ranks, arrays of the
-// wrong size) makes every rank throw the same frnn::error.
+// coordinates, points outside the periodic box given to build, fewer particles than ranks,
+// arrays of the wrong size) makes every rank throw the same frnn::error.
 // Complexity: balance O(n log ranks) plus the decomposition when recomputed, build and update
 // O(n + ghosts) plus one message per neighboring rank, lists as frnn::grid's.
 // Rank safety: every member but the accessors is collective over the communicator given at
@@ -70,7 +72,8 @@ public:
     ~domain();
 
     /// Moves this rank's particles (coords n*D values, ids, optional weights: a cost per
-    /// particle for the cut) to their owners; on return they hold this rank's particles.
+    /// particle for the cut) to their owners; on return they hold this rank's particles,
+    /// wrapped into the periodic box.
     /// `rebalance` re-cuts space whatever the imbalance.
     const distributor& balance(std::vector<T>& coords, std::vector<std::uint64_t>& ids,
                                std::vector<double>* weights = nullptr, bool rebalance = false);
