@@ -79,8 +79,8 @@ const distributor& domain<T, D>::balance(std::vector<T>& coords, std::vector<std
         problem = check_points<T, D>(coords, {}, weights ? std::span<const double>(*weights) : std::span<const double>());
     throw_if_any(comm_, problem);
     // Particles that left the periodic box since the last balance come back into it, wrapped
-    // as the single-process grid wraps them. The result lies below the box length in T, and so
-    // below the length itself: T(L) > L is the T nearest to L.
+    // as the single-process grid wraps them. The result lies below T(L), and so below L: when
+    // T(L) > L it is the T nearest to L, and no T lies in [L, T(L)).
     for (std::size_t i = 0; i < coords.size() && !options_.periodic.empty(); ++i) {
         const double length = options_.periodic[i % D];
         if (length > 0) coords[i] = wrap_into_box(coords[i], T(length));
