@@ -1,6 +1,6 @@
 // The distributed `frnn query`: each rank reads its share of the input, frnn::mpi::domain moves
-// the particles to their sub-domains, receives the ghosts and lists the neighbors; rank 0 writes
-// the one output file and prints the summary with every rank's figures.
+// the particles to their sub-domains, receives the ghosts and lists the neighbors; the ranks
+// write the one output file together, and rank 0 prints the summary with every rank's figures.
 // Errors: bad input and failures are collective (every rank stops with the same message and
 // exit code 1); an error on one rank alone ends the job with MPI_Abort, so that nothing hangs.
 #include "query_mpi.hpp"
@@ -147,10 +147,10 @@ void search(MPI_Comm comm, const query_args& a, const input_slice& in, mpi_repor
     const global_rows<T> upper = rows_of(d, lists, io::pair_filter::upper, !a.output.empty() && ext != ".npy");
     mine.pairs = double(upper.neighbors.size());
     if (!a.output.empty()) {
-        MPI_Barrier(comm);  // the write's time is rank 0's, not the slowest search's
+        MPI_Barrier(comm);  // the write's time starts when every rank's search is done
         clock.lap_ms();
-        if (npz) gather_and_write(comm, a.output, rows_of(d, lists, io::pair_filter::all, true), in.total, io::pair_filter::all);
-        else gather_and_write(comm, a.output, upper, in.total, io::pair_filter::upper);
+        if (npz) write_distributed(comm, a.output, rows_of(d, lists, io::pair_filter::all, true), in.total, io::pair_filter::all);
+        else write_distributed(comm, a.output, upper, in.total, io::pair_filter::upper);
         report.write_ms = clock.lap_ms();
     }
     report.per_rank.assign(std::size_t(report.ranks), {});

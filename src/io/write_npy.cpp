@@ -1,4 +1,4 @@
-// .npy writers: any numeric array, and neighbor pairs as an int64 (M, 2) array.
+// The .npy writer of any numeric array, and the count of the pairs a filter keeps.
 #include <string>
 
 #include "frnn/io/write.hpp"
@@ -31,23 +31,8 @@ void write_npy(const std::filesystem::path& file, std::span<const T> data,
     out.commit();
 }
 
-template <class T>
-void write_pairs_npy(const std::filesystem::path& file, const csr<T>& lists, pair_filter filter) {
-    const std::uint64_t shape[2] = {count_pairs(lists, filter), 2};
-    output_file out(file);
-    out.write(detail::make_npy_header(detail::npy_descr<std::int64_t>(), shape));
-    block_writer<std::int64_t> values(out);
-    detail::for_each_pair(lists, filter, [&](std::size_t i, std::uint32_t j, std::uint64_t) {
-        values.push(std::int64_t(i));
-        values.push(std::int64_t(j));
-    });
-    values.flush();
-    out.commit();
-}
-
 #define FRNN_IO_PAIRS(T)                                                                      \
-    template std::uint64_t count_pairs(const csr<T>&, pair_filter);                           \
-    template void write_pairs_npy(const std::filesystem::path&, const csr<T>&, pair_filter);
+    template std::uint64_t count_pairs(const csr<T>&, pair_filter);
 FRNN_IO_PAIRS(float)
 FRNN_IO_PAIRS(double)
 #undef FRNN_IO_PAIRS

@@ -1,11 +1,14 @@
 // The writers: generic npy arrays, pairs as npy and csv, CSR lists as npz (read back by an
-// independent zip reader, and by Python when available), and the all-or-nothing output file.
+// independent zip reader, and by Python when available), files assembled from separately
+// encoded row blocks (as the ranks of a distributed query write them), and the all-or-nothing
+// output file.
 #include <cstdlib>
 
 #include "frnn/brute_force.hpp"
 #include "frnn/io/write.hpp"
 #include "io/test_files.hpp"
 #include "frnn/io/atomic_file.hpp"
+#include "frnn/io/neighbor_file.hpp"
 
 namespace frnn::test {
 namespace {
@@ -155,6 +158,71 @@ TEST(npz_write, numpy_loads_the_archive) {
         "assert (np.stack([rows,i],1)==p).all()\" '" +
         (dir / "lists.npz").string() + "' '" + (dir / "pairs.npy").string() + "'";
     EXPECT_EQ(std::system(check.c_str()), 0);
+}
+
+/// Rows [b, e) of `lists` as lists of their own (offsets from 0), as one rank holds them.
+template <class T>
+csr<T> row_block(const csr<T>& lists, std::size_t b, std::size_t e) {
+    csr<T> block;
+    block.offsets.resize(e - b + 1);
+    for (std::size_t i = b; i <= e; ++i) block.offsets[i - b] = lists.offsets[i] - lists.offsets[b];
+    for (std::uint64_t k = lists.offsets[b]; k < lists.offsets[e]; ++k) {
+        block.indices.push_back(lists.indices[k]);
+        if (!lists.distances.empty()) block.distances.push_back(lists.distances[k]);
+    }
+    return block;
+}
+
+/// The file of `lists` assembled from blocks cut at `cuts` (each encoded alone, with its rows'
+/// numbering, its bodies' CRCs combined), as the distributed writer assembles it.
+template <class T>
+std::string assembled(io::neighbor_format f, const csr<T>& lists, const std::vector<std::size_t>& cuts, io::pair_filter filter) {
+    std::vector<csr<T>> blocks;
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) blocks.push_back(row_block(lists, cuts[k], cuts[k + 1]));
+    std::vector<std::string> bodies(3);
+    std::vector<std::uint32_t> crcs;
+    for (int m = 0; m < io::member_count(f); ++m) {
+        io::checksum sum;
+        for (std::size_t k = 0; k < blocks.size(); ++k) {
+            const io::row_numbering at{cuts[k], lists.offsets[cuts[k]]};
+            const std::string bytes =
+                io::encode_rows(f, m, blocks[k], 0, blocks[k].rows(), at, filter, k + 1 == blocks.size());
+            sum = io::concatenate(sum, io::checksum_of(bytes));
+            bodies[std::size_t(m)] += bytes;
+        }
+        EXPECT_EQ(sum.crc, io::checksum_of(bodies[std::size_t(m)]).crc) << "member " << m;
+        crcs.push_back(sum.crc);
+    }
+    const std::uint64_t entries = f == io::neighbor_format::lists_npz ? lists.size() : io::count_pairs(lists, filter);
+    const io::neighbor_frame frame = io::frame_of(f, "assembled", lists.rows(), entries, crcs);
+    std::string file;
+    for (int m = 0; m < io::member_count(f); ++m) file += frame.before[std::size_t(m)] + bodies[std::size_t(m)];
+    return file + frame.after;
+}
+
+TEST(neighbor_file, blocks_encoded_apart_make_the_written_file) {
+    const auto dir = fresh_dir();
+    const csr<float> lists = sample_lists<float>();
+    const std::size_t n = lists.rows();
+    // One block; even cuts; empty blocks at the start, inside and at the end; single rows.
+    const std::vector<std::vector<std::size_t>> cuttings = {
+        {0, n}, {0, n / 3, 2 * n / 3, n}, {0, 0, 5, 5, 6, n - 1, n, n}, {0, 1, 2, 3, n}};
+    for (const char* name : {"out.npy", "out.csv", "out.npz"}) {
+        for (io::pair_filter filter : {io::pair_filter::upper, io::pair_filter::all}) {
+            io::write_neighbors(dir / name, lists, filter);
+            const std::string written = read_bytes(dir / name);
+            for (const auto& cuts : cuttings)
+                EXPECT_TRUE(assembled(io::neighbor_format_of(name), lists, cuts, filter) == written)
+                    << name << " cut into " << cuts.size() - 1 << " blocks";
+        }
+    }
+    csr<float> none;
+    io::write_csr_npz(dir / "none.npz", none);
+    EXPECT_TRUE(assembled(io::neighbor_format::lists_npz, none, {0, 0, 0}, io::pair_filter::all) == read_bytes(dir / "none.npz"));
+}
+
+TEST(neighbor_file, unknown_extension_names_the_file) {
+    expect_error([] { io::neighbor_format_of("out.txt"); }, {"out.txt", "unknown output extension '.txt'"});
 }
 
 TEST(output_file, commit_renames_and_abandon_leaves_nothing) {

@@ -47,24 +47,4 @@ private:
     std::vector<char> buffer_;
 };
 
-/// Collects values of type T and writes them to an output_file in large blocks.
-template <class T>
-class block_writer {
-public:
-    explicit block_writer(output_file& out) : out_(out) { block_.reserve(capacity); }
-    void push(T value) {
-        block_.push_back(value);
-        if (block_.size() == capacity) flush();
-    }
-    void flush() {
-        out_.write(block_.data(), block_.size() * sizeof(T));
-        block_.clear();
-    }
-
-private:
-    static constexpr std::size_t capacity = 1 << 14;
-    output_file& out_;
-    std::vector<T> block_;
-};
-
 }  // namespace frnn::io
