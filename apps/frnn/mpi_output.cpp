@@ -51,8 +51,9 @@ int_layout to_ints(const std::vector<std::uint64_t>& counts) {
     return l;
 }
 
+/// MPI_Alltoallv of `out` (freed on return) into a new array.
 template <class U>
-std::vector<U> exchange(MPI_Comm comm, const std::vector<U>& out, const int_layout& sent, const int_layout& received) {
+std::vector<U> exchange(MPI_Comm comm, std::vector<U> out, const int_layout& sent, const int_layout& received) {
     std::vector<U> in(received.counts.empty() ? 0 : std::size_t(received.starts.back()) + std::size_t(received.counts.back()));
     MPI_Alltoallv(out.data(), sent.counts.data(), sent.starts.data(), mpi_type<U>(), in.data(), received.counts.data(),
                   received.starts.data(), mpi_type<U>(), comm);
@@ -62,7 +63,7 @@ std::vector<U> exchange(MPI_Comm comm, const std::vector<U>& out, const int_layo
 /// This rank's id range [first_id(rank), first_id(rank + 1)) as lists in id order, from the
 /// rows of every rank.
 template <class T>
-csr<T> rows_by_id(const communicator& c, const global_rows<T>& mine, std::uint64_t total, bool distances) {
+csr<T> rows_by_id(const communicator& c, global_rows<T>&& mine, std::uint64_t total, bool distances) {
     const std::size_t P = std::size_t(c.size), n = mine.ids.size();
     std::vector<std::uint64_t> entry_start(n + 1, 0);
     std::inclusive_scan(mine.lengths.begin(), mine.lengths.end(), entry_start.begin() + 1);
@@ -73,6 +74,10 @@ csr<T> rows_by_id(const communicator& c, const global_rows<T>& mine, std::uint64
     // Rows and entries per destination (monotone in id: each destination's rows are contiguous).
     std::vector<std::uint64_t> send_rows(P, 0), send_entries(P, 0);
     global_rows<T> out;
+    out.ids.reserve(n);
+    out.lengths.reserve(n);
+    out.neighbors.reserve(mine.neighbors.size());
+    if (distances) out.distances.reserve(mine.neighbors.size());
     for (std::size_t k : order) {
         const std::size_t to = std::size_t(mine.ids[k] * P / total);
         ++send_rows[to];
@@ -83,6 +88,7 @@ csr<T> rows_by_id(const communicator& c, const global_rows<T>& mine, std::uint64
         out.neighbors.insert(out.neighbors.end(), mine.neighbors.begin() + from, mine.neighbors.begin() + to_end);
         if (distances) out.distances.insert(out.distances.end(), mine.distances.begin() + from, mine.distances.begin() + to_end);
     }
+    mine = {};  // each array is freed as soon as it was sent (exchange takes it)
     std::vector<std::uint64_t> recv_rows(P), recv_entries(P);
     MPI_Alltoall(send_rows.data(), 1, MPI_UINT64_T, recv_rows.data(), 1, MPI_UINT64_T, c.comm);
     MPI_Alltoall(send_entries.data(), 1, MPI_UINT64_T, recv_entries.data(), 1, MPI_UINT64_T, c.comm);
@@ -96,10 +102,10 @@ csr<T> rows_by_id(const communicator& c, const global_rows<T>& mine, std::uint64
 
     const int_layout row_out = to_ints(send_rows), row_in = to_ints(recv_rows);
     const int_layout entry_out = to_ints(send_entries), entry_in = to_ints(recv_entries);
-    const std::vector<std::uint64_t> ids = exchange(c.comm, out.ids, row_out, row_in);
-    const std::vector<std::uint64_t> lengths = exchange(c.comm, out.lengths, row_out, row_in);
-    const std::vector<std::uint32_t> neighbors = exchange(c.comm, out.neighbors, entry_out, entry_in);
-    const std::vector<T> dist = distances ? exchange(c.comm, out.distances, entry_out, entry_in) : std::vector<T>{};
+    const std::vector<std::uint64_t> ids = exchange(c.comm, std::move(out.ids), row_out, row_in);
+    const std::vector<std::uint64_t> lengths = exchange(c.comm, std::move(out.lengths), row_out, row_in);
+    const std::vector<std::uint32_t> neighbors = exchange(c.comm, std::move(out.neighbors), entry_out, entry_in);
+    const std::vector<T> dist = distances ? exchange(c.comm, std::move(out.distances), entry_out, entry_in) : std::vector<T>{};
 
     // Rows arrive sorted from each rank; placed by id, each in its slot.
     const std::uint64_t lo = first_id(std::uint64_t(c.rank), total, P), hi = first_id(std::uint64_t(c.rank) + 1, total, P);
@@ -216,7 +222,7 @@ private:
 }  // namespace
 
 template <class T>
-void write_distributed(MPI_Comm comm, const std::string& file, const global_rows<T>& mine, std::uint64_t total,
+void write_distributed(MPI_Comm comm, const std::string& file, global_rows<T> mine, std::uint64_t total,
                        io::pair_filter filter) {
     const communicator c(comm);
     io::neighbor_format format{};
@@ -228,7 +234,7 @@ void write_distributed(MPI_Comm comm, const std::string& file, const global_rows
     }
     mpi::throw_if_any(comm, problem);
     const int members = io::member_count(format);
-    const csr<T> lists = rows_by_id(c, mine, total, io::needs_distances(format));
+    const csr<T> lists = rows_by_id(c, std::move(mine), total, io::needs_distances(format));
 
     // Where this rank's rows and entries fall in the file's.
     const std::uint64_t lo = first_id(std::uint64_t(c.rank), total, std::uint64_t(c.size));
@@ -312,7 +318,7 @@ void write_distributed(MPI_Comm comm, const std::string& file, const global_rows
     out.commit();
 }
 
-template void write_distributed(MPI_Comm, const std::string&, const global_rows<float>&, std::uint64_t, io::pair_filter);
-template void write_distributed(MPI_Comm, const std::string&, const global_rows<double>&, std::uint64_t, io::pair_filter);
+template void write_distributed(MPI_Comm, const std::string&, global_rows<float>, std::uint64_t, io::pair_filter);
+template void write_distributed(MPI_Comm, const std::string&, global_rows<double>, std::uint64_t, io::pair_filter);
 
 }  // namespace frnn::app

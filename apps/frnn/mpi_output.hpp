@@ -30,8 +30,9 @@ struct global_rows {
 };
 
 /// Collective: writes the rows of every rank, `total` particles, to `file` (format by extension).
+/// Takes `mine` to free it once the rows are packed for their owners.
 template <class T>
-void write_distributed(MPI_Comm comm, const std::string& file, const global_rows<T>& mine, std::uint64_t total,
+void write_distributed(MPI_Comm comm, const std::string& file, global_rows<T> mine, std::uint64_t total,
                        io::pair_filter filter);
 
 }  // namespace frnn::app

@@ -111,6 +111,16 @@ global_rows<T> rows_of(const mpi::domain<T, D>& d, const csr<T>& lists, io::pair
     return out;
 }
 
+/// This rank's pairs with i < j in global ids: those its rows hold with a greater neighbor id.
+template <class T, int D>
+std::uint64_t upper_pairs(const mpi::domain<T, D>& d, const csr<T>& lists) {
+    const std::span<const std::uint64_t> ids = d.ids();
+    std::uint64_t n = 0;
+    for (std::size_t i = 0; i < lists.rows(); ++i)
+        for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) n += ids[lists.indices[k]] > ids[i];
+    return n;
+}
+
 template <class T, int D>
 void search(MPI_Comm comm, const query_args& a, const input_slice& in, mpi_report& report) {
     int rank = 0;
@@ -130,9 +140,17 @@ void search(MPI_Comm comm, const query_args& a, const input_slice& in, mpi_repor
     d.build(coords, ids);
     const mpi::domain_stats built = d.stats();
     clock.lap_ms();
-    const csr<T> lists = d.neighbor_lists(true);
     rank_figures mine;
-    mine.lists_ms = clock.lap_ms();
+    // Files keep each pair once (i < j), but .npz holds the whole lists, as the serial tool.
+    const std::string ext = lower_extension(a.output);
+    const io::pair_filter filter = ext == ".npz" ? io::pair_filter::all : io::pair_filter::upper;
+    global_rows<T> rows;
+    {
+        const csr<T> lists = d.neighbor_lists(true);
+        mine.lists_ms = clock.lap_ms();
+        mine.pairs = double(upper_pairs(d, lists));
+        if (!a.output.empty()) rows = rows_of(d, lists, filter, ext != ".npy");
+    }  // the lists are freed before the write
     mine.particles = double(d.local_size());
     mine.ghosts = double(d.ghost_size());
     mine.decompose_ms = moved.decompose_ms;
@@ -141,16 +159,10 @@ void search(MPI_Comm comm, const query_args& a, const input_slice& in, mpi_repor
     mine.halo_ms = built.halo_ms;
     mine.grid_ms = built.grid_ms;
     mine.halo_bytes = double(built.halo_bytes);
-    // Files keep each pair once (i <= j), but .npz holds the whole lists, as the serial tool.
-    const std::string ext = lower_extension(a.output);
-    const bool npz = ext == ".npz";
-    const global_rows<T> upper = rows_of(d, lists, io::pair_filter::upper, !a.output.empty() && ext != ".npy");
-    mine.pairs = double(upper.neighbors.size());
     if (!a.output.empty()) {
         MPI_Barrier(comm);  // the write's time starts when every rank's search is done
         clock.lap_ms();
-        if (npz) write_distributed(comm, a.output, rows_of(d, lists, io::pair_filter::all, true), in.total, io::pair_filter::all);
-        else write_distributed(comm, a.output, upper, in.total, io::pair_filter::upper);
+        write_distributed(comm, a.output, std::move(rows), in.total, filter);
         report.write_ms = clock.lap_ms();
     }
     report.per_rank.assign(std::size_t(report.ranks), {});
