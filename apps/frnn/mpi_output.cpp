@@ -254,9 +254,11 @@ void write_distributed(MPI_Comm comm, const std::string& file, global_rows<T> mi
     auto for_each_block = [&](int m, auto&& f) {
         constexpr std::size_t block_rows = 1 << 13;
         std::size_t b = 0;
+        std::string bytes;
         do {  // at least one block: the last rank closes the .npz offsets
             const std::size_t e = std::min(lists.rows(), b + block_rows);
-            if (!f(io::encode_rows(format, m, lists, b, e, {lo, entries_before}, filter, closes && e == lists.rows()))) return;
+            io::encode_rows(bytes, format, m, lists, b, e, {lo, entries_before}, filter, closes && e == lists.rows());
+            if (!f(bytes)) return;
             b = e;
         } while (b < lists.rows());
     };
@@ -294,7 +296,7 @@ void write_distributed(MPI_Comm comm, const std::string& file, global_rows<T> mi
         io::checksum sum;
         for_each_block(m, [&](const std::string& bytes) {
             problem = write_at(out.handle(), mine_at[std::size_t(m)] + sum.bytes, bytes);
-            sum = io::concatenate(sum, io::checksum_of(bytes));
+            sum = io::extended(sum, bytes);
             return problem.empty();
         });
         crcs[std::size_t(m)] = sum.crc;

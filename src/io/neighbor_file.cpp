@@ -76,11 +76,11 @@ std::string central_entry(const zip_member& m) {
     return s + m.name;
 }
 
+/// Writes v's bytes at p; returns the end.
 template <class U>
-void append_value(std::string& s, U v) {
-    char bytes[sizeof(U)];
-    std::memcpy(bytes, &v, sizeof(U));
-    s.append(bytes, sizeof(U));
+char* put_value(char* p, U v) {
+    std::memcpy(p, &v, sizeof(U));
+    return p + sizeof(U);
 }
 
 /// Calls f(file_row, neighbor, entry) for the entries of rows [b, e) that `filter` keeps.
@@ -108,15 +108,16 @@ int member_count(neighbor_format f) { return f == neighbor_format::lists_npz ? 3
 bool needs_distances(neighbor_format f) { return f != neighbor_format::pairs_npy; }
 
 template <class T>
-std::string encode_rows(neighbor_format f, int member, const csr<T>& lists, std::size_t b, std::size_t e,
-                        row_numbering at, pair_filter filter, bool closes) {
-    std::string s;
+void encode_rows(std::string& s, neighbor_format f, int member, const csr<T>& lists, std::size_t b, std::size_t e,
+                 row_numbering at, pair_filter filter, bool closes) {
+    s.clear();  // keeps the capacity: the bytes of the last block are still in cache
     if (f == neighbor_format::pairs_npy) {
-        s.reserve(16 * (lists.offsets[e] - lists.offsets[b]));
+        s.resize(16 * (lists.offsets[e] - lists.offsets[b]));  // at most; cut to what is kept
+        char* p = s.data();
         for_each_kept(lists, b, e, at.first_row, filter, [&](std::uint64_t i, std::uint32_t j, std::uint64_t) {
-            append_value(s, std::int64_t(i));
-            append_value(s, std::int64_t(j));
+            p = put_value(put_value(p, std::int64_t(i)), std::int64_t(j));
         });
+        s.resize(std::size_t(p - s.data()));
     } else if (f == neighbor_format::pairs_csv) {
         for_each_kept(lists, b, e, at.first_row, filter, [&](std::uint64_t i, std::uint32_t j, std::uint64_t k) {
             char line[96];
@@ -129,19 +130,22 @@ std::string encode_rows(neighbor_format f, int member, const csr<T>& lists, std:
             s.append(line, p);
         });
     } else if (member == 0) {
-        for (std::size_t i = b; i < e; ++i) append_value(s, std::int64_t(at.entries_before + lists.offsets[i]));
-        if (closes) append_value(s, std::int64_t(at.entries_before + lists.offsets[e]));
+        s.resize(8 * (e - b + (closes ? 1 : 0)));
+        char* p = s.data();
+        for (std::size_t i = b; i < e; ++i) p = put_value(p, std::int64_t(at.entries_before + lists.offsets[i]));
+        if (closes) put_value(p, std::int64_t(at.entries_before + lists.offsets[e]));
     } else {
-        for (std::uint64_t k = lists.offsets[b]; k < lists.offsets[e]; ++k) {
-            if (member == 1) append_value(s, std::int64_t(lists.indices[k]));
-            else append_value(s, double(lists.distances[k]));
-        }
+        s.resize(8 * (lists.offsets[e] - lists.offsets[b]));
+        char* p = s.data();
+        for (std::uint64_t k = lists.offsets[b]; k < lists.offsets[e]; ++k)
+            p = member == 1 ? put_value(p, std::int64_t(lists.indices[k])) : put_value(p, double(lists.distances[k]));
     }
-    return s;
 }
 
-checksum checksum_of(std::string_view bytes) {
-    return {std::uint32_t(crc32_z(0, reinterpret_cast<const Bytef*>(bytes.data()), bytes.size())), bytes.size()};
+checksum checksum_of(std::string_view bytes) { return extended({}, bytes); }
+
+checksum extended(checksum a, std::string_view bytes) {
+    return {std::uint32_t(crc32_z(a.crc, reinterpret_cast<const Bytef*>(bytes.data()), bytes.size())), a.bytes + bytes.size()};
 }
 
 checksum concatenate(checksum a, checksum b) {
@@ -191,9 +195,9 @@ neighbor_frame frame_of(neighbor_format f, const std::filesystem::path& file, st
     return frame;
 }
 
-template std::string encode_rows(neighbor_format, int, const csr<float>&, std::size_t, std::size_t, row_numbering,
-                                 pair_filter, bool);
-template std::string encode_rows(neighbor_format, int, const csr<double>&, std::size_t, std::size_t, row_numbering,
-                                 pair_filter, bool);
+template void encode_rows(std::string&, neighbor_format, int, const csr<float>&, std::size_t, std::size_t, row_numbering,
+                          pair_filter, bool);
+template void encode_rows(std::string&, neighbor_format, int, const csr<double>&, std::size_t, std::size_t, row_numbering,
+                          pair_filter, bool);
 
 }  // namespace frnn::io

@@ -35,12 +35,13 @@ struct row_numbering {
     std::uint64_t entries_before = 0;
 };
 
-/// Member m's bytes for rows [b, e) of `lists` (neighbors given as file row numbers); .npy and
-/// .csv keep the entries `filter` keeps, .npz every entry. With `closes` (e is the file's last
-/// row), also what follows that row: the final offset of .npz.
+/// Member m's bytes for rows [b, e) of `lists` (neighbors given as file row numbers) into
+/// `bytes`, replacing its contents (a buffer reused from block to block stays in cache); .npy
+/// and .csv keep the entries `filter` keeps, .npz every entry. With `closes` (e is the file's
+/// last row), also what follows that row: the final offset of .npz.
 template <class T>
-std::string encode_rows(neighbor_format f, int member, const csr<T>& lists, std::size_t b, std::size_t e,
-                        row_numbering at, pair_filter filter, bool closes);
+void encode_rows(std::string& bytes, neighbor_format f, int member, const csr<T>& lists, std::size_t b, std::size_t e,
+                 row_numbering at, pair_filter filter, bool closes);
 
 /// CRC-32 (zlib's) and length of some bytes: what the .npz frame needs of a member's body.
 struct checksum {
@@ -48,7 +49,10 @@ struct checksum {
     std::uint64_t bytes = 0;
 };
 checksum checksum_of(std::string_view bytes);
-/// The checksum of the bytes of `a` followed by those of `b`.
+/// The checksum of the bytes of `a` followed by `bytes`.
+checksum extended(checksum a, std::string_view bytes);
+/// The checksum of the bytes of `a` followed by those of `b` (slower than extended: zlib's
+/// crc32_combine, for parts whose bytes are elsewhere).
 checksum concatenate(checksum a, checksum b);
 
 struct neighbor_frame {
