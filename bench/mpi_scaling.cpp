@@ -2,7 +2,7 @@
 // workload of BENCHMARKS.md at the number of ranks mpirun started, one line of JSON from rank 0.
 // Run it through bench/mpi_scaling.sh, which compares 1, 2 and 4 ranks.
 //
-// Every rank draws the whole workload (float, seed 42) and starts with a contiguous slice of
+// Every rank draws the whole workload (float, seed 42; W8 in its periodic box) and starts with a contiguous slice of
 // ids; a first balance + build (not timed) puts the particles on their sub-domains. Then each
 // round is the rebuild of one time step: the particles alternate between their positions and
 // the "update" motion of BENCHMARKS.md (uniform(-0.05, 0.05) per coordinate), and the timed part
@@ -50,7 +50,7 @@ int run(int argc, char** argv) {
         else if (!std::strcmp(argv[k], "--n")) n = std::strtoull(argv[k + 1], nullptr, 10);
         else if (!std::strcmp(argv[k], "--rounds")) rounds = std::atoi(argv[k + 1]);
         else {
-            std::fprintf(stderr, "usage: frnn_mpi_bench [--workload W1|W2] [--n N] [--rounds K]\n");
+            std::fprintf(stderr, "usage: frnn_mpi_bench [--workload W1|W2|W8] [--n N] [--rounds K]\n");
             return 2;
         }
     }
@@ -70,7 +70,10 @@ int run(int argc, char** argv) {
         return c;
     };
 
-    frnn::mpi::domain<T, D> domain(MPI_COMM_WORLD, T(w.radius));
+    const double box = frnn::bench::periodic_box(w, n);
+    frnn::mpi::domain_options options;
+    if (box > 0) options.periodic.assign(D, box);
+    frnn::mpi::domain<T, D> domain(MPI_COMM_WORLD, T(w.radius), options);
     std::vector<T> coords = positions(still);
     domain.balance(coords, ids);
     double first_bytes = double(domain.stats().migrate_bytes);  // from the initial slices
@@ -114,7 +117,9 @@ int run(int argc, char** argv) {
     if (size == 1) {
         for (int round = 0; round <= rounds; ++round) {
             frnn::detail::stopwatch clock;
-            const frnn::grid<T, D> g(round % 2 ? still : moved, T(w.radius));
+            frnn::grid_options go;
+            go.periodic = options.periodic;
+            const frnn::grid<T, D> g(round % 2 ? still : moved, T(w.radius), go);
             frnn::list_options o;
             o.order = frnn::row_order::index;
             const frnn::csr<T> lists = g.neighbor_lists(o);

@@ -1,17 +1,21 @@
 // The distributed search: balance (cut, move), build (ghosts, local grid), neighbor lists.
-// Candidates come from frnn's CPU grid over local + ghost particles; each is then decided by
-// the single-process distance test on the coordinates as their owners hold them (minimum image
-// when periodic), and kept only through the image that is the minimum one, so that the pairs
-// are exactly a single-process grid's.
+// The pairs are exactly a single-process grid's. Rows come from frnn's CPU grid over local +
+// ghost particles. In an open box at the single-process search scale the grid's own test is the
+// single-process one; otherwise (shifted periodic images, another scale) every candidate is
+// decided again by the single-process test on the coordinates as their owners hold them
+// (minimum image when periodic), and kept only through the image that is the minimum one.
 #include "frnn/mpi/domain.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #include "frnn/detail/stopwatch.hpp"
 #include "frnn/mpi/collective_error.hpp"
+#include "frnn/parallel.hpp"
 #include "frnn/periodic_wrap.hpp"
 #include "frnn/search_scale.hpp"
 #include "mpi/check_points.hpp"
@@ -56,7 +60,7 @@ domain<T, D>::domain(MPI_Comm comm, T radius, domain_options options)
     }
     // Shifted images round (x + L) to T: a few units in the last place of L, which the grid's
     // radius must cover for no candidate to be missed (the exact test decides afterwards).
-    if (!options_.periodic.empty()) {
+    if (has_periodic_axis()) {
         const double box = *std::max_element(options_.periodic.begin(), options_.periodic.end());
         candidate_radius_ = T(double(radius) * (1 + 1e-6) + 8 * box * std::numeric_limits<T>::epsilon());
     }
@@ -194,40 +198,128 @@ void domain<T, D>::build_grid() {
 }
 
 template <class T, int D>
+bool domain<T, D>::has_periodic_axis() const {
+    return std::any_of(options_.periodic.begin(), options_.periodic.end(), [](double length) { return length > 0; });
+}
+
+template <class T, int D>
+bool domain<T, D>::grid_decides() const {
+    return !has_periodic_axis() && grid_.search_scale() == scale_;
+}
+
+template <class T, int D>
 csr<T> domain<T, D>::neighbor_lists(bool distances) const {
     const std::size_t n = local_size();
     list_options o;
     o.order = row_order::index;
-    const csr<T> candidates = grid_.query(std::span<const T>(positions_).first(n * D), o);
+    const bool exact = grid_decides();
+    o.distances = distances && exact;
+    // The grid's sweep in cell order over local and ghost particles; local particles come
+    // first in positions(), so their rows are a prefix of the lists.
+    csr<T> lists = grid_.neighbor_lists(o);
+    lists.offsets.resize(n + 1);
+    lists.indices.resize(lists.offsets.back());
+    if (o.distances) lists.distances.resize(lists.offsets.back());
+    if (exact) return lists;
+    return decided_by_owners(std::move(lists), distances);
+}
+
+template <class T, int D>
+csr<T> domain<T, D>::decided_by_owners(csr<T> lists, bool distances) const {
+    const std::size_t n = local_size();
     const distance_test<T, D> test(radius_, scale_, options_.periodic);
     const std::span<const std::int8_t> images = halo_.ghost_images();
-    csr<T> out;
-    out.offsets.assign(n + 1, 0);
-    out.indices.reserve(candidates.size());  // growing it would fault in its pages again and again
-    if (distances) out.distances.reserve(candidates.size());
-    for (std::size_t i = 0; i < n; ++i) {
-        const T* xi = &raw_[i * D];
-        for (std::uint32_t j : candidates.row(i)) {
-            if (j == i) continue;
-            const T* xj = &raw_[std::size_t(j) * D];
-            T d2;
-            if (!test.within(xi, xj, d2)) continue;
-            bool minimum_image = true;
-            for (int a = 0; a < D && test.periodic; ++a) {
-                if (!(test.box[a] > 0)) continue;  // an open axis: no images
-                // The image the single-process test took (as distance_test computes it) must be
-                // this candidate's: another image of the same particle would count it twice.
+    const std::span<const std::uint32_t> order = grid_.sorted_to_original();
+    std::vector<char> shifted(ghost_size(), 0);  // ghosts at another image than their owner's
+    for (std::size_t g = 0; g < shifted.size(); ++g)
+        for (int a = 0; a < D; ++a) shifted[g] |= images[g * D + std::size_t(a)] != 0;
+    // Whether candidate j of the point at xi is its neighbor, through the minimum image.
+    auto decide = [&](const T* xi, std::uint32_t j, T& d2) {
+        const T* xj = &raw_[std::size_t(j) * D];
+        if (j < n || !shifted[j - n]) {
+            // Coordinates in the box (which wrapping leaves as they are) whose difference is
+            // below half the box on every periodic axis are their own minimum image: the test
+            // below without a division.
+            T sum = 0;
+            bool plain = true;
+            for (int a = 0; a < D; ++a) {
                 const T d = xj[a] * test.scale - xi[a] * test.scale;
-                const int image = j < n ? 0 : images[(j - n) * D + std::size_t(a)];
-                minimum_image &= std::nearbyint(d / test.box[a]) == T(-image);
+                plain &= !(test.box[a] > 0) || (std::abs(d) * 2 < test.box[a] && xi[a] < test.caller_box[a] &&
+                                                xj[a] < test.caller_box[a]);
+                sum += d * d;
             }
-            if (!minimum_image) continue;
-            out.indices.push_back(j);
-            if (distances) out.distances.push_back(test.distance(d2));
+            if (plain) {
+                d2 = sum;
+                return d2 <= test.r2;
+            }
         }
-        out.offsets[i + 1] = out.indices.size();
+        bool keep = test.within(xi, xj, d2);
+        for (int a = 0; a < D && keep && test.periodic; ++a) {
+            if (!(test.box[a] > 0)) continue;  // an open axis: no images
+            // The image the single-process test took (as distance_test computes it) must be
+            // this candidate's: another image of the same particle would count it twice.
+            const T d = xj[a] * test.scale - xi[a] * test.scale;
+            const int image = j < n ? 0 : images[(j - n) * D + std::size_t(a)];
+            keep = std::nearbyint(d / test.box[a]) == T(-image);
+        }
+        return keep;
+    };
+    if (distances) lists.distances.resize(lists.size());
+    // Rows are decided in the grid's cell order, where neighboring rows read the same owners'
+    // coordinates; a rejected candidate is marked, and rows keep their places.
+    constexpr std::uint32_t rejected = std::numeric_limits<std::uint32_t>::max();
+    constexpr std::size_t per_chunk = 1024;
+    const std::size_t chunks = (order.size() + per_chunk - 1) / per_chunk;
+    std::vector<std::size_t> rejections(chunks, 0);
+    std::vector<std::uint64_t> kept(n + 1, 0);
+    parallel_chunks(chunks, grid_.threads(), [&](std::size_t c, int) {
+        const std::size_t end = std::min(order.size(), (c + 1) * per_chunk);
+        for (std::size_t s = c * per_chunk; s < end; ++s) {
+            const std::uint32_t i = order[s];
+            if (i >= n) continue;  // a ghost's row
+            const T* xi = &raw_[std::size_t(i) * D];
+            std::uint64_t row_kept = 0;
+            for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
+                T d2;
+                const bool keep = decide(xi, lists.indices[k], d2);
+                if (!keep) {
+                    lists.indices[k] = rejected;
+                    ++rejections[c];
+                    continue;
+                }
+                ++row_kept;
+                if (distances) lists.distances[k] = test.distance(d2);
+            }
+            kept[i + 1] = row_kept;
+        }
+    });
+    if (std::accumulate(rejections.begin(), rejections.end(), std::size_t(0)) == 0) return lists;
+    // Some candidates were rejected: each chunk of rows closes its gaps in place, then the
+    // chunks move down to their new starts, in order (a move never overwrites what a later
+    // chunk has yet to move: every start only moves down).
+    std::partial_sum(kept.begin(), kept.end(), kept.begin());
+    const std::size_t row_chunks = (n + per_chunk - 1) / per_chunk;
+    auto chunk_rows = [&](std::size_t c) { return std::pair(c * per_chunk, std::min(n, (c + 1) * per_chunk)); };
+    parallel_chunks(row_chunks, grid_.threads(), [&](std::size_t c, int) {
+        const auto [b, e] = chunk_rows(c);
+        std::uint64_t to = lists.offsets[b];
+        for (std::uint64_t k = lists.offsets[b]; k < lists.offsets[e]; ++k) {
+            if (lists.indices[k] == rejected) continue;
+            lists.indices[to] = lists.indices[k];
+            if (distances) lists.distances[to] = lists.distances[k];
+            ++to;
+        }
+    });
+    for (std::size_t c = 0; c < row_chunks; ++c) {
+        const auto [b, e] = chunk_rows(c);
+        const std::uint64_t from = lists.offsets[b], to = kept[b], count = kept[e] - kept[b];
+        std::memmove(lists.indices.data() + to, lists.indices.data() + from, count * sizeof(std::uint32_t));
+        if (distances) std::memmove(lists.distances.data() + to, lists.distances.data() + from, count * sizeof(T));
     }
-    return out;
+    lists.offsets.assign(kept.begin(), kept.end());
+    lists.indices.resize(kept[n]);
+    if (distances) lists.distances.resize(kept[n]);
+    return lists;
 }
 
 template <class T, int D>

@@ -49,9 +49,11 @@ std::string first_difference(const std::vector<pair_t<T>>& found, const std::vec
     return show("extra", extra) + show("missing", missing);
 }
 
-/// Distributes `points`, searches, and compares with the oracle on every rank.
+/// Distributes `points`, searches (with `threads` per rank), and compares with the oracle on
+/// every rank.
 template <class T, int D>
-void check_set(const std::vector<T>& points, T radius, const std::vector<double>& periodic, const char* name) {
+void check_set(const std::vector<T>& points, T radius, const std::vector<double>& periodic, const char* name,
+               int threads = 1) {
     SCOPED_TRACE(name);
     for (bool all_on_rank0 : {false, true}) {
         SCOPED_TRACE(all_on_rank0 ? "all on rank 0" : "spread over the ranks");
@@ -61,6 +63,7 @@ void check_set(const std::vector<T>& points, T radius, const std::vector<double>
         mpi::domain_options options;
         options.periodic = periodic;
         options.skin = 0.1 * double(radius);
+        options.threads = threads;
         mpi::domain<T, D> domain(MPI_COMM_WORLD, radius, options);
         domain.balance(coords, ids);
         for (std::size_t i = 0; i < coords.size() && !periodic.empty(); ++i) {
@@ -116,6 +119,27 @@ TYPED_TEST(MpiSearch, PeriodicBoxes) {
     // A lattice whose spacing is the radius: pairs at exactly r, across the box's faces too.
     const int side = D == 2 ? 12 : 7;
     check_set<T, D>(lattice_points<T, D>(side, 1.0), T(1), std::vector<double>(D, side), "periodic lattice at exactly r");
+}
+
+// Pairs a few units in the last place beyond and within r, across the faces too: periodic
+// ghosts are candidates a little beyond r (their shifted coordinates round), and the lists
+// drop those the single-process test rejects. Two threads decide rows in cell order.
+TYPED_TEST(MpiSearch, PeriodicPairsAtTheRadius) {
+    using T = typename TypeParam::T;
+    constexpr int D = TypeParam::D;
+    const std::vector<double> box = D == 2 ? std::vector<double>{8, 6} : std::vector<double>{8, 6, 7};
+    const T r = T(1.1);
+    std::vector<T> points = points_in_box<T, D>(D == 2 ? 1500 : 2000, box, 27);
+    const std::size_t n = points.size() / D;
+    for (std::size_t p = 0; p < n; p += 2) {
+        const int axis = int(p / 2 % D);
+        const double factor = p % 4 == 0 ? 1 + 5e-7 : 1 - 5e-7;
+        std::vector<T> partner(points.begin() + std::ptrdiff_t(p * D), points.begin() + std::ptrdiff_t(p * D + D));
+        partner[std::size_t(axis)] = T(std::fmod(double(partner[std::size_t(axis)]) + double(r) * factor, box[std::size_t(axis)]));
+        points.insert(points.end(), partner.begin(), partner.end());
+    }
+    check_set<T, D>(points, r, box, "pairs at the radius, 2 threads", 2);
+    check_set<T, D>(points, r, box, "pairs at the radius, 1 thread", 1);
 }
 
 // Particles outside the box, as an MD code's are after they crossed a face: balance wraps

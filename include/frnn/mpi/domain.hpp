@@ -103,6 +103,13 @@ public:
 
 private:
     void build_grid();
+    bool has_periodic_axis() const;
+    /// Whether the local grid's own distance test gives exactly the single-process pairs: no
+    /// shifted images and the same search scale.
+    bool grid_decides() const;
+    /// The lists with every candidate decided again by the single-process test on the
+    /// owners' coordinates, through the minimum image only.
+    csr<T> decided_by_owners(csr<T> lists, bool distances) const;
 
     MPI_Comm comm_ = MPI_COMM_NULL;
     T radius_;
