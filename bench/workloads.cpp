@@ -121,28 +121,38 @@ std::size_t point_count(const workload& w, std::size_t n) {
 }
 
 template <class T>
-std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long seed) {
+std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long seed, std::size_t first, std::size_t end) {
     std::vector<T> out;
-    out.reserve(std::size_t(std::pow(double(side), dim)) * std::size_t(dim));
+    out.reserve((end - first) * std::size_t(dim));
     draw rng(seed);
-    const std::size_t nz = dim == 3 ? side : 1;
-    for (std::size_t k = 0; k < nz; ++k)
-        for (std::size_t j = 0; j < side; ++j)
-            for (std::size_t i = 0; i < side; ++i) {
-                out.push_back(T(double(i) + rng.uniform(-0.1, 0.1)));
-                out.push_back(T(double(j) + rng.uniform(-0.1, 0.1)));
-                if (dim == 3) out.push_back(T(double(k) + rng.uniform(-0.1, 0.1)));
-            }
+    rng.engine.discard(first * std::size_t(dim));  // every point takes dim draws, x first
+    for (std::size_t p = first; p < end; ++p) {
+        const std::size_t i = p % side, j = p / side % side, k = p / side / side;
+        out.push_back(T(double(i) + rng.uniform(-0.1, 0.1)));
+        out.push_back(T(double(j) + rng.uniform(-0.1, 0.1)));
+        if (dim == 3) out.push_back(T(double(k) + rng.uniform(-0.1, 0.1)));
+    }
+    return out;
+}
+
+template <class T>
+std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long seed) {
+    return jittered_lattice<T>(side, dim, seed, 0, std::size_t(std::pow(double(side), dim)));
+}
+
+template <class T>
+std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed, std::size_t first, std::size_t end) {
+    draw rng(seed);
+    rng.engine.discard(first * std::size_t(dim));
+    const double side = dim == 3 ? std::cbrt(double(count)) : std::sqrt(double(count));
+    std::vector<T> out((end - first) * std::size_t(dim));
+    for (T& x : out) x = T(rng.uniform(0.0, side));
     return out;
 }
 
 template <class T>
 std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed) {
-    draw rng(seed);
-    const double side = dim == 3 ? std::cbrt(double(count)) : std::sqrt(double(count));
-    std::vector<T> out(count * std::size_t(dim));
-    for (T& x : out) x = T(rng.uniform(0.0, side));
-    return out;
+    return uniform_cube<T>(count, dim, seed, 0, count);
 }
 
 template <class T>
@@ -223,6 +233,10 @@ template std::vector<float> jittered_lattice<float>(std::size_t, int, unsigned l
 template std::vector<double> jittered_lattice<double>(std::size_t, int, unsigned long long);
 template std::vector<float> uniform_cube<float>(std::size_t, int, unsigned long long);
 template std::vector<double> uniform_cube<double>(std::size_t, int, unsigned long long);
+template std::vector<float> jittered_lattice<float>(std::size_t, int, unsigned long long, std::size_t, std::size_t);
+template std::vector<double> jittered_lattice<double>(std::size_t, int, unsigned long long, std::size_t, std::size_t);
+template std::vector<float> uniform_cube<float>(std::size_t, int, unsigned long long, std::size_t, std::size_t);
+template std::vector<double> uniform_cube<double>(std::size_t, int, unsigned long long, std::size_t, std::size_t);
 template std::vector<float> fcc_lattice<float>(std::size_t, unsigned long long);
 template std::vector<double> fcc_lattice<double>(std::size_t, unsigned long long);
 template std::vector<float> moved_copy<float>(std::span<const float>);

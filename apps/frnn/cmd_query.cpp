@@ -46,7 +46,8 @@ std::vector<double> parse_periodic(const std::string& text) {
 
 // Built-in point sets: the generators of the benchmark workloads (W1 and W4 are lattice:N with
 // --dim 3 and 2, W2 uniform:N), so with the default seed the same points as `frnn bench`.
-io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed) {
+io::point_slice generate_slice(const std::string& spec, int dim, std::uint64_t seed, std::uint64_t part,
+                               std::uint64_t parts) {
     const std::size_t colon = spec.find(':');
     const std::string kind = spec.substr(0, colon);
     std::uint64_t n = 0;
@@ -59,11 +60,18 @@ io::point_set generate_points(const std::string& spec, int dim, std::uint64_t se
     const double count = kind == "lattice" ? std::pow(double(n), dim) : double(n);
     if (count > 1e9) throw CLI::ValidationError("--generate", "'" + spec + "' asks for too many points");
 
-    io::point_set points;
-    points.dimension = dim;
-    points.coords = kind == "lattice" ? bench::jittered_lattice<double>(n, dim, seed)
-                                      : bench::uniform_cube<double>(n, dim, seed);
-    return points;
+    io::point_slice s;
+    s.total = std::uint64_t(count);
+    s.first = io::slice_start(s.total, part, parts);
+    const std::uint64_t end = io::slice_start(s.total, part + 1, parts);
+    s.points.dimension = dim;
+    s.points.coords = kind == "lattice" ? bench::jittered_lattice<double>(n, dim, seed, s.first, end)
+                                        : bench::uniform_cube<double>(n, dim, seed, s.first, end);
+    return s;
+}
+
+io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed) {
+    return generate_slice(spec, dim, seed, 0, 1).points;
 }
 
 void parse_radius(query_args& a) {

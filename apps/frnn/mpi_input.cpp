@@ -1,5 +1,5 @@
 // Reading the input of a distributed query: offset reads of .npy, rank 0's read and a scatter
-// for the other formats, every rank's own copy of a generated set.
+// for the other formats, every rank's own slice of a generated set.
 #include "mpi_input.hpp"
 
 #include <climits>
@@ -51,30 +51,16 @@ input_slice scatter(MPI_Comm comm, const io::point_set& all) {
     return s;
 }
 
-/// Every rank's slice of the same set.
-input_slice keep_slice(MPI_Comm comm, io::point_set all) {
-    int rank = 0, size = 0;
-    MPI_Comm_rank(comm, &rank);
-    MPI_Comm_size(comm, &size);
-    input_slice s;
-    s.total = all.size();
-    s.first = io::slice_start(s.total, std::uint64_t(rank), std::uint64_t(size));
-    const std::uint64_t end = io::slice_start(s.total, std::uint64_t(rank) + 1, std::uint64_t(size)), d = std::uint64_t(all.dimension);
-    s.points.dimension = all.dimension;
-    std::visit([&](auto& v) {
-        using V = std::decay_t<decltype(v)>;
-        s.points.coords = V(v.begin() + std::ptrdiff_t(s.first * d), v.begin() + std::ptrdiff_t(end * d));
-    }, all.coords);
-    return s;
-}
-
 }  // namespace
 
 input_slice read_input_slice(MPI_Comm comm, const query_args& a) {
-    if (!a.generate.empty()) return keep_slice(comm, generate_points(a.generate, a.dim, a.seed));
     int rank = 0, size = 0;
     MPI_Comm_rank(comm, &rank);
     MPI_Comm_size(comm, &size);
+    if (!a.generate.empty()) {
+        io::point_slice p = generate_slice(a.generate, a.dim, a.seed, std::uint64_t(rank), std::uint64_t(size));
+        return {std::move(p.points), p.first, p.total};
+    }
     std::string problem;
     if (lower_extension(a.input) == ".npy") {
         input_slice s;

@@ -3,8 +3,8 @@
 //   .npy        every rank reads the header and its own rows' bytes (plain offset reads);
 //   other files rank 0 reads the whole file and scatters the slices (text and .ply rows have no
 //               fixed size to seek to);
-//   --generate  every rank draws the whole set (the generators are cheap and deterministic) and
-//               keeps its slice.
+//   --generate  every rank draws its own slice (the generators skip the draws of the points
+//               before it).
 // Bad input throws frnn::mpi::collective_error on every rank (CLI::ValidationError for a bad
 // --generate, on every rank alike).
 #pragma once

@@ -9,6 +9,7 @@
 
 #include "frnn/detail/stopwatch.hpp"
 #include "frnn/io/point_set.hpp"
+#include "frnn/io/read.hpp"
 
 namespace frnn::app {
 
@@ -37,6 +38,9 @@ inline std::string lower_extension(const std::string& file) {
 std::vector<double> parse_periodic(const std::string& text);
 /// The points of --generate (lattice:N or uniform:N), as `frnn bench` draws its workloads.
 io::point_set generate_points(const std::string& spec, int dim, std::uint64_t seed);
+/// Slice `part` of `parts` of those points (io::slice_start's rows), drawn alone.
+io::point_slice generate_slice(const std::string& spec, int dim, std::uint64_t seed, std::uint64_t part,
+                               std::uint64_t parts);
 /// --radius: a positive number into a.radius, or a .npy file into a.radius_file;
 /// CLI::ValidationError otherwise.
 void parse_radius(query_args& a);

@@ -104,6 +104,29 @@ TEST(BenchWorkloads, SameSeedSamePoints) {
     }
 }
 
+// A slice drawn alone (a rank's share of `frnn query --generate`) holds the same values as
+// that part of the whole set, for both generators in 2D and 3D, empty slices included.
+TEST(BenchWorkloads, SlicesDrawnAloneAreThePartsOfTheWhole) {
+    for (int dim : {2, 3}) {
+        const std::size_t side = 7, lattice_count = dim == 3 ? 343 : 49, count = 500;
+        const auto lattice = fb::jittered_lattice<double>(side, dim, 5);
+        const auto cube = fb::uniform_cube<double>(count, dim, 5);
+        ASSERT_EQ(lattice.size(), lattice_count * std::size_t(dim));
+        for (std::size_t parts : {1, 3, 4, 64}) {
+            std::vector<double> lattice_joined, cube_joined;
+            for (std::size_t k = 0; k < parts; ++k) {
+                const auto l = fb::jittered_lattice<double>(side, dim, 5, lattice_count * k / parts, lattice_count * (k + 1) / parts);
+                const auto c = fb::uniform_cube<double>(count, dim, 5, count * k / parts, count * (k + 1) / parts);
+                lattice_joined.insert(lattice_joined.end(), l.begin(), l.end());
+                cube_joined.insert(cube_joined.end(), c.begin(), c.end());
+            }
+            EXPECT_EQ(lattice_joined, lattice) << dim << "D, " << parts << " slices";
+            EXPECT_EQ(cube_joined, cube) << dim << "D, " << parts << " slices";
+        }
+        EXPECT_TRUE(fb::uniform_cube<double>(count, dim, 5, 200, 200).empty());
+    }
+}
+
 // W8: LAMMPS's LJ benchmark lattice at its density, inside its periodic cube, and an fcc
 // lattice: every atom's nearest neighbor near a / sqrt(2), no closer than the jitter allows.
 TEST(BenchWorkloads, MdLatticeAtDensity08442InsideItsBox) {

@@ -59,6 +59,13 @@ std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long se
 /// ... and `count` points uniform in the cube (square) of side count^(1/dim), density 1 (W2).
 template <class T>
 std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed);
+/// Points [first, end) of either set alone (end at most its size): the same values, drawn
+/// after skipping the generator's draws for the points before (each rank of a distributed
+/// query draws only its own slice this way).
+template <class T>
+std::vector<T> jittered_lattice(std::size_t side, int dim, unsigned long long seed, std::size_t first, std::size_t end);
+template <class T>
+std::vector<T> uniform_cube(std::size_t count, int dim, unsigned long long seed, std::size_t first, std::size_t end);
 
 /// W7's radii: `count` values uniform in [lo, hi], one per point in point order, from
 /// std::mt19937_64 seeded with `seed` (the bench uses 44: the points take 42, the update 43).
