@@ -1,6 +1,7 @@
 // Options of grid construction and neighbor-list queries.
 // Plain value types; safe to copy and share between threads.
 #pragma once
+#include <cstddef>
 #include <string_view>
 #include <vector>
 
@@ -77,6 +78,12 @@ struct list_options {
     bool self = false;        ///< include i itself, at distance 0
     row_order order = row_order::none;
     index_space space = index_space::original;
+    /// Rows for points [0, rows) of the chosen numbering only, and the lists have that many
+    /// rows; the other points are neighbors but get no row of their own (a domain's ghost
+    /// particles, numbered after the particles it owns). At most the number of points; for
+    /// the lists of a grid's own points only (not queries). Default: a row for every point.
+    static constexpr std::size_t all_rows = std::size_t(-1);
+    std::size_t rows = all_rows;
 };
 
 }  // namespace frnn

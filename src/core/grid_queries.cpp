@@ -75,6 +75,7 @@ struct query_engine {
     /// place, as swept_lists does for the grid's own points.
     void swept_query_lists(csr<T>& out, std::span<const T> queries, const list_options& o, std::size_t k_nearest,
                            const T* query_r2) const {
+        if (o.rows != list_options::all_rows) throw error("list_options.rows applies to the lists of a grid's own points, not to queries");
         const std::size_t rows = queries.size() / D;
         const auto order = queries_by_cell(queries);
         const auto perm = g.sorted_to_original();
@@ -211,9 +212,14 @@ struct query_engine {
     /// Lists of the grid's own points by two cell sweeps: row sizes, then rows in place.
     void swept_lists(csr<T>& out, const list_options& o, std::size_t k_nearest) const {
         const std::size_t rows = g.size();
+        if (o.rows != list_options::all_rows && o.rows > rows)
+            throw error("list_options.rows is " + std::to_string(o.rows) + ", more than the grid's " +
+                        std::to_string(rows) + " points");
+        const std::size_t with_rows = std::min(o.rows, rows);  // the others' rows stay empty
         const auto perm = g.sorted_to_original();
         const bool sorted_space = o.space == index_space::sorted;
         sweep_job<T> job;
+        job.row_limit = std::uint32_t(with_rows);
         job.ids = sorted_space ? nullptr : perm.data();
         job.half = o.half;
         job.self = o.self;
@@ -241,10 +247,12 @@ struct query_engine {
         for_each_chunk(rows, parts, threads, [&](std::size_t, std::size_t b, std::size_t e) {
             for (std::size_t s = b; s < e; ++s) {
                 if (!sorted_space && s + 16 < e) __builtin_prefetch(&out.offsets[perm[s + 16]], 1);
-                out.offsets[sorted_space ? s : perm[s]] = sizes[s];
+                const std::size_t row = sorted_space ? s : perm[s];
+                out.offsets[row] = row < with_rows ? sizes[s] : 0;  // the pair counts count every point
             }
         });
         fill_rows(out, job, o.distances, parts, kept.get());
+        out.offsets.resize(with_rows + 1);  // the rows after are empty: their offsets are all the total
     }
 
     /// Whether the rows of a list are ones whose hit bits the count sweep can keep: rows (full

@@ -12,6 +12,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "core/grid_access.hpp"
 #include "frnn/grid.hpp"
@@ -35,6 +36,9 @@ struct sweep_job {
     bool self = false;
     std::size_t k_nearest = 0;  ///< > 0: keep that many nearest per row (rows by distance)
     row_order order = row_order::none;
+    /// Grid points whose id is at least this get an empty row (list_options::rows): no test,
+    /// count 0, nothing written.
+    std::uint32_t row_limit = std::numeric_limits<std::uint32_t>::max();
 
     std::uint32_t* counts = nullptr;          ///< count sweep: row sizes by sorted index
     /// count_pairs: where the counts of the partner points go; null: into counts as well.

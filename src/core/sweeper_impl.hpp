@@ -101,6 +101,8 @@ struct sweeper {
         if (job.of_queries()) return job.query_order[s];
         return job.ids ? job.ids[s] : s;
     }
+    /// Whether grid point s gets no row (list_options::rows).
+    bool without_row(std::uint32_t s) const { return !job.of_queries() && id(s) >= job.row_limit; }
 
     /// Calls f(begin, end, cell, width) for the groups of points of [b, e) that share one
     /// candidate block: for_each_cell_group, or consecutive queries in one cell.
@@ -202,6 +204,10 @@ struct sweeper {
             const bool wrap = wraps(cell);
             const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
             for (std::uint32_t s = gb; s < ge; ++s) {
+                if (without_row(s)) {
+                    job.counts[s] = 0;
+                    continue;
+                }
                 const auto x = point(s);
                 std::uint32_t c = with_kernel(s, x, wrap, [&](const auto& kern) {
                     if (!job.half)  // the point itself is always a candidate at distance 0
@@ -267,6 +273,7 @@ struct sweeper {
             const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
             if (job.k_nearest > 0) grow(row_ids, block.padded), grow(row_d2, block.padded);
             for (std::uint32_t s = gb; s < ge; ++s) {
+                if (without_row(s)) continue;
                 const auto x = point(s);
                 const candidate_filter f = filter(s, first + (s - gb));
                 const std::uint64_t dst = row_start(starts, s, b, e);
@@ -321,6 +328,10 @@ struct sweeper {
             const std::uint32_t first = job.of_queries() ? 0 : block_position(gb);
             const std::uint32_t vectors = block.padded / kernel::L::n;
             for (std::uint32_t s = gb; s < ge; ++s, bits += vectors) {
+                if (without_row(s)) {
+                    job.counts[s] = 0;
+                    continue;
+                }
                 const auto x = point(s);
                 const candidate_filter f = filter(s, first + (s - gb));
                 job.counts[job.of_queries() ? id(s) : s] = with_kernel(s, x, wrap, [&](const auto& kern) {
@@ -345,6 +356,7 @@ struct sweeper {
             // A local cursor: a captured one would be reloaded after every store.
             const hit_word* __restrict bits = next;
             for (std::uint32_t s = gb; s < ge; ++s, bits += padded / kernel::L::n) {
+                if (without_row(s)) continue;
                 std::uint32_t* __restrict out = job.indices + row_start(starts, s, b, e);
                 std::uint32_t n = 0;
                 const std::uint32_t from = from_position ? filter(s, first + (s - gb)).from / kernel::L::n * kernel::L::n : 0;

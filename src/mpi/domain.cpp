@@ -214,12 +214,10 @@ csr<T> domain<T, D>::neighbor_lists(bool distances) const {
     o.order = row_order::index;
     const bool exact = grid_decides();
     o.distances = distances && exact;
-    // The grid's sweep in cell order over local and ghost particles; local particles come
-    // first in positions(), so their rows are a prefix of the lists.
+    // The grid's sweep in cell order over local and ghost particles, rows for the local ones
+    // (the first n of positions()).
+    o.rows = n;
     csr<T> lists = grid_.neighbor_lists(o);
-    lists.offsets.resize(n + 1);
-    lists.indices.resize(lists.offsets.back());
-    if (o.distances) lists.distances.resize(lists.offsets.back());
     if (exact) return lists;
     return decided_by_owners(std::move(lists), distances);
 }

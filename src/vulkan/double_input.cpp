@@ -87,6 +87,7 @@ basic_search_result<double> search_double(context& ctx, std::span<const double> 
         throw error(who + ": radius must be positive and finite, got " + std::to_string(r));
     if (lo.space == index_space::sorted)
         throw error(who + ": index_space::sorted needs the grid's cell order, which search does not return");
+    if (lo.rows != list_options::all_rows) throw error(who + ": list_options.rows (rows for some points only) runs on the CPU grid only");
     double largest = 0;
     const std::vector<float> xf = to_float<D>(coords, "data", go.periodic, largest);
     const std::vector<float> qf = to_float<D>(queries, "query", go.periodic, largest);

@@ -67,6 +67,7 @@ std::size_t grid_state::count_and_scan(std::uint32_t f, std::uint32_t cap, const
 }
 
 grid_state::list_plan grid_state::plan(const list_options& o, std::size_t k, const row_source& src) const {
+    if (o.rows != list_options::all_rows) throw error("vulkan::grid: list_options.rows (rows for some points only) runs on the CPU grid only");
     list_plan p;
     p.nearest = k > 0;
     p.need_d2 = o.distances || p.nearest || o.order == row_order::distance;

@@ -130,6 +130,17 @@ TEST(OracleBadInput, CoordsNotMultipleOfDimension) {
                  "query_nearest with 8 values");
 }
 
+// list_options::rows: at most the number of points, and not for queries.
+TEST(OracleBadInput, ListRows) {
+    grid<float, 3> g(uniform_points<float, 3>(50, 0, 2, 342), 1.0f);
+    list_options o;
+    o.rows = 51;
+    expect_error([&] { (void)g.neighbor_lists(o); }, {"51", "50 points"}, "rows beyond the points");
+    expect_error([&] { (void)g.nearest(3, o); }, {"51", "50 points"}, "nearest, rows beyond the points");
+    o.rows = 10;
+    expect_error([&] { (void)g.query(std::vector<float>{0, 0, 0}, o); }, {"rows", "queries"}, "rows of queries");
+}
+
 TEST(OracleBadInput, QueryPointsNotFinite) {
     for (auto kind : kinds) {
         grid_options opt;

@@ -409,6 +409,19 @@ void check_grid(const grid<T, D>& g, std::span<const T> coords, T radius,
              compare_csr<T>(g.neighbor_lists(o), want, o.distances, o.order));
     }
 
+    // Rows for the first m points only (of the chosen numbering): the first m rows of the
+    // whole lists, the other points still neighbors.
+    for (list_options o : basic_list_options()) {
+        for (std::size_t m : {std::size_t(0), n / 3, n}) {
+            o.rows = m;
+            rows_t<T> want = expected_self_rows<T>(ref, perm, inv, o);
+            want.resize(m);
+            const std::string what = describe(o) + ", rows " + std::to_string(m);
+            fail("neighbor_lists(" + what + ")", compare_csr<T>(g.neighbor_lists(o), want, o.distances, o.order));
+            fail("nearest(4, " + what + ")", compare_csr<T>(g.nearest(4, o), want, o.distances, row_order::distance, 4));
+        }
+    }
+
     // nearest(k): at most k within r, by distance.
     for (std::size_t k : {std::size_t(1), std::size_t(4), std::size_t(100000)}) {
         if (!full && k != 4) continue;

@@ -69,6 +69,10 @@ TEST_F(vulkan_api, rejects_bad_input_with_reasons) {
     EXPECT_NE(error_of([&] { g.query(bad_query); }).find("query point 1"), std::string::npos);
     EXPECT_NE(error_of([&] { g.query_counts(std::vector<float>{1, 2}); }).find("multiple of 3"), std::string::npos);
     EXPECT_NE(error_of([&] { neighbor_lists(ctx(), pts, 4, 1.0f); }).find("dimension"), std::string::npos);
+    list_options some_rows;
+    some_rows.rows = 10;
+    EXPECT_NE(error_of([&] { g.neighbor_lists(some_rows); }).find("CPU grid only"), std::string::npos);
+    EXPECT_NE(error_of([&] { g.nearest(2, some_rows); }).find("CPU grid only"), std::string::npos);
 }
 
 TEST_F(vulkan_api, splits_or_rejects_beyond_the_binding_limit) {
