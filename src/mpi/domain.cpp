@@ -194,7 +194,28 @@ void domain<T, D>::build_grid() {
     halo_.shift_images(positions_);
     grid_options o;
     o.threads = options_.threads;
-    grid_.build(positions_, candidate_radius_, o);
+    const std::size_t n = local_size();
+    const std::span<const std::int8_t> images = halo_.ghost_images();
+    shifted_.assign(ghost_size(), 0);
+    for (std::size_t g = 0; g < shifted_.size(); ++g)
+        for (int a = 0; a < D; ++a) shifted_[g] |= images[g * D + std::size_t(a)] != 0;
+    in_box_ = true;
+    for (std::size_t k = 0; k < raw_.size() && in_box_; ++k) {
+        const double length = options_.periodic.empty() ? 0 : options_.periodic[k % D];
+        in_box_ = !(length > 0) || raw_[k] < T(length);
+    }
+    if (!has_periodic_axis()) {
+        grid_.build(positions_, radius_, o);
+        return;
+    }
+    // Only the pairs with a shifted ghost need the widened radius (their coordinates rounded
+    // when shifted): the others are searched within r itself, by a radius per point under the
+    // symmetric rule.
+    radii_.assign(n + ghost_size(), radius_);
+    for (std::size_t g = 0; g < shifted_.size(); ++g)
+        if (shifted_[g]) radii_[n + g] = candidate_radius_;
+    o.rule = radius_rule::symmetric;
+    grid_.build(positions_, radii_, o);
 }
 
 template <class T, int D>
@@ -204,7 +225,7 @@ bool domain<T, D>::has_periodic_axis() const {
 
 template <class T, int D>
 bool domain<T, D>::grid_decides() const {
-    return !has_periodic_axis() && grid_.search_scale() == scale_;
+    return grid_.search_scale() == scale_ && in_box_;
 }
 
 template <class T, int D>
@@ -212,29 +233,26 @@ csr<T> domain<T, D>::neighbor_lists(bool distances) const {
     const std::size_t n = local_size();
     list_options o;
     o.order = row_order::index;
-    const bool exact = grid_decides();
-    o.distances = distances && exact;
+    o.distances = distances;
     // The grid's sweep in cell order over local and ghost particles, rows for the local ones
     // (the first n of positions()).
     o.rows = n;
     csr<T> lists = grid_.neighbor_lists(o);
-    if (exact) return lists;
-    return decided_by_owners(std::move(lists), distances);
+    const bool exact = grid_decides();
+    if (exact && std::none_of(shifted_.begin(), shifted_.end(), [](char s) { return s != 0; })) return lists;
+    return decided_by_owners(std::move(lists), distances, exact);
 }
 
 template <class T, int D>
-csr<T> domain<T, D>::decided_by_owners(csr<T> lists, bool distances) const {
+csr<T> domain<T, D>::decided_by_owners(csr<T> lists, bool distances, bool only_shifted) const {
     const std::size_t n = local_size();
     const distance_test<T, D> test(radius_, scale_, options_.periodic);
     const std::span<const std::int8_t> images = halo_.ghost_images();
     const std::span<const std::uint32_t> order = grid_.sorted_to_original();
-    std::vector<char> shifted(ghost_size(), 0);  // ghosts at another image than their owner's
-    for (std::size_t g = 0; g < shifted.size(); ++g)
-        for (int a = 0; a < D; ++a) shifted[g] |= images[g * D + std::size_t(a)] != 0;
     // Whether candidate j of the point at xi is its neighbor, through the minimum image.
     auto decide = [&](const T* xi, std::uint32_t j, T& d2) {
         const T* xj = &raw_[std::size_t(j) * D];
-        if (j < n || !shifted[j - n]) {
+        if (j < n || !shifted_[j - n]) {
             // Coordinates in the box (which wrapping leaves as they are) whose difference is
             // below half the box on every periodic axis are their own minimum image: the test
             // below without a division.
@@ -262,7 +280,6 @@ csr<T> domain<T, D>::decided_by_owners(csr<T> lists, bool distances) const {
         }
         return keep;
     };
-    if (distances) lists.distances.resize(lists.size());
     // Rows are decided in the grid's cell order, where neighboring rows read the same owners'
     // coordinates; a rejected candidate is marked, and rows keep their places.
     constexpr std::uint32_t rejected = std::numeric_limits<std::uint32_t>::max();
@@ -278,8 +295,13 @@ csr<T> domain<T, D>::decided_by_owners(csr<T> lists, bool distances) const {
             const T* xi = &raw_[std::size_t(i) * D];
             std::uint64_t row_kept = 0;
             for (std::uint64_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
+                const std::uint32_t j = lists.indices[k];
+                if (only_shifted && (j < n || !shifted_[j - n])) {  // the grid's decision stands
+                    ++row_kept;
+                    continue;
+                }
                 T d2;
-                const bool keep = decide(xi, lists.indices[k], d2);
+                const bool keep = decide(xi, j, d2);
                 if (!keep) {
                     lists.indices[k] = rejected;
                     ++rejections[c];

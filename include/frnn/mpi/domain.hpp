@@ -104,12 +104,13 @@ public:
 private:
     void build_grid();
     bool has_periodic_axis() const;
-    /// Whether the local grid's own distance test gives exactly the single-process pairs: no
-    /// shifted images and the same search scale.
+    /// Whether the local grid's own distance test gives exactly the single-process pairs of
+    /// every particle but the shifted ghosts: the same search scale, coordinates in the box.
     bool grid_decides() const;
-    /// The lists with every candidate decided again by the single-process test on the
-    /// owners' coordinates, through the minimum image only.
-    csr<T> decided_by_owners(csr<T> lists, bool distances) const;
+    /// The lists with candidates decided again by the single-process test on the owners'
+    /// coordinates, through the minimum image only: the shifted ghosts if only_shifted, else
+    /// every one.
+    csr<T> decided_by_owners(csr<T> lists, bool distances, bool only_shifted) const;
 
     MPI_Comm comm_ = MPI_COMM_NULL;
     T radius_;
@@ -124,6 +125,9 @@ private:
     std::vector<T> positions_;  // the same, ghosts shifted by their images
     std::vector<T> built_;      // local coordinates at the last build
     std::vector<std::uint64_t> ids_;
+    std::vector<char> shifted_;  // per ghost: at another periodic image than its owner's
+    std::vector<T> radii_;       // periodic box: the grid's radius per point (r; shifted ghosts wider)
+    bool in_box_ = true;         // every coordinate below its periodic box length (as T)
     grid<T, D> grid_;
     domain_stats stats_;
 };
