@@ -1,9 +1,11 @@
 // The distributed search: balance (cut, move), build (ghosts, local grid), neighbor lists.
 // The pairs are exactly a single-process grid's. Rows come from frnn's CPU grid over local +
-// ghost particles. In an open box at the single-process search scale the grid's own test is the
-// single-process one; otherwise (shifted periodic images, another scale) every candidate is
-// decided again by the single-process test on the coordinates as their owners hold them
-// (minimum image when periodic), and kept only through the image that is the minimum one.
+// ghost particles, searched within r at the single-process search scale, where the grid's own
+// test is the single-process one. Ghosts that are periodic images hold coordinates shifted by
+// a box length, which rounds: their pairs are searched a little wider (a radius per point,
+// symmetric rule) and decided again by the single-process test on the coordinates as their
+// owners hold them, kept only through the image that is the minimum one. At another search
+// scale, or with coordinates the single-process grid would wrap, every pair is decided again.
 #include "frnn/mpi/domain.hpp"
 
 #include <algorithm>
@@ -204,7 +206,7 @@ void domain<T, D>::build_grid() {
         const double length = options_.periodic.empty() ? 0 : options_.periodic[k % D];
         in_box_ = !(length > 0) || raw_[k] < T(length);
     }
-    if (!has_periodic_axis()) {
+    if (std::none_of(shifted_.begin(), shifted_.end(), [](char s) { return s != 0; })) {
         grid_.build(positions_, radius_, o);
         return;
     }
@@ -239,7 +241,7 @@ csr<T> domain<T, D>::neighbor_lists(bool distances) const {
     o.rows = n;
     csr<T> lists = grid_.neighbor_lists(o);
     const bool exact = grid_decides();
-    if (exact && std::none_of(shifted_.begin(), shifted_.end(), [](char s) { return s != 0; })) return lists;
+    if (exact && !grid_.has_point_radii()) return lists;  // no shifted ghost
     return decided_by_owners(std::move(lists), distances, exact);
 }
 
