@@ -202,9 +202,11 @@ void domain<T, D>::build_grid() {
     for (std::size_t g = 0; g < shifted_.size(); ++g)
         for (int a = 0; a < D; ++a) shifted_[g] |= images[g * D + std::size_t(a)] != 0;
     in_box_ = true;
-    for (std::size_t k = 0; k < raw_.size() && in_box_; ++k) {
-        const double length = options_.periodic.empty() ? 0 : options_.periodic[k % D];
-        in_box_ = !(length > 0) || raw_[k] < T(length);
+    if (has_periodic_axis()) {
+        for (std::size_t k = 0; k < raw_.size() && in_box_; ++k) {
+            const double length = options_.periodic[k % D];
+            in_box_ = !(length > 0) || raw_[k] < T(length);
+        }
     }
     if (std::none_of(shifted_.begin(), shifted_.end(), [](char s) { return s != 0; })) {
         grid_.build(positions_, radius_, o);
