@@ -2,13 +2,14 @@
 // workload of BENCHMARKS.md at the number of ranks mpirun started, one line of JSON from rank 0.
 // Run it through bench/mpi_scaling.sh, which compares 1, 2 and 4 ranks.
 //
-// Every rank draws the whole workload (float, seed 42; W8 in its periodic box) and starts with a contiguous slice of
-// ids; a first balance + build (not timed) puts the particles on their sub-domains. Then each
-// round is the rebuild of one time step: the particles alternate between their positions and
-// the "update" motion of BENCHMARKS.md (uniform(-0.05, 0.05) per coordinate), and the timed part
-// is balance (cuts kept unless the imbalance passes 10%) + build + neighbor_lists on every rank,
-// after a barrier; a round's time is the slowest rank's sum of its phases. Medians over the rounds after a warm-up round.
-// At 1 rank the plain single-process grid (build + lists, same threads) is timed beside it.
+// Every rank draws the whole workload (float, seed 42; W8 in its periodic box) and starts with
+// a contiguous slice of ids; a first balance + build (not timed) puts the particles on their
+// sub-domains. Then each round is the rebuild of one time step: the particles alternate between
+// their positions and the "update" motion of BENCHMARKS.md (uniform(-0.05, 0.05) per
+// coordinate), and the timed part is balance (cuts kept unless the imbalance passes 10%) +
+// build + neighbor_lists on every rank, after a barrier; a round's time is the slowest rank's
+// sum of its phases. Medians over the rounds after a warm-up round. At 1 rank the plain
+// single-process grid (build + lists, same threads, the same periodic box) is timed beside it.
 #include <mpi.h>
 
 #include <algorithm>

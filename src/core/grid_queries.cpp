@@ -75,7 +75,8 @@ struct query_engine {
     /// place, as swept_lists does for the grid's own points.
     void swept_query_lists(csr<T>& out, std::span<const T> queries, const list_options& o, std::size_t k_nearest,
                            const T* query_r2) const {
-        if (o.rows != list_options::all_rows) throw error("list_options.rows applies to the lists of a grid's own points, not to queries");
+        if (o.rows != list_options::all_rows)
+            throw error("list_options.rows applies to the lists of a grid's own points, not to queries");
         const std::size_t rows = queries.size() / D;
         const auto order = queries_by_cell(queries);
         const auto perm = g.sorted_to_original();

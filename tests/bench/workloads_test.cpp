@@ -115,7 +115,8 @@ TEST(BenchWorkloads, SlicesDrawnAloneAreThePartsOfTheWhole) {
         for (std::size_t parts : {1, 3, 4, 64}) {
             std::vector<double> lattice_joined, cube_joined;
             for (std::size_t k = 0; k < parts; ++k) {
-                const auto l = fb::jittered_lattice<double>(side, dim, 5, lattice_count * k / parts, lattice_count * (k + 1) / parts);
+                const std::size_t lb = lattice_count * k / parts, le = lattice_count * (k + 1) / parts;
+                const auto l = fb::jittered_lattice<double>(side, dim, 5, lb, le);
                 const auto c = fb::uniform_cube<double>(count, dim, 5, count * k / parts, count * (k + 1) / parts);
                 lattice_joined.insert(lattice_joined.end(), l.begin(), l.end());
                 cube_joined.insert(cube_joined.end(), c.begin(), c.end());

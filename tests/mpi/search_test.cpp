@@ -135,7 +135,8 @@ TYPED_TEST(MpiSearch, PeriodicPairsAtTheRadius) {
         const int axis = int(p / 2 % D);
         const double factor = p % 4 == 0 ? 1 + 5e-7 : 1 - 5e-7;
         std::vector<T> partner(points.begin() + std::ptrdiff_t(p * D), points.begin() + std::ptrdiff_t(p * D + D));
-        partner[std::size_t(axis)] = T(std::fmod(double(partner[std::size_t(axis)]) + double(r) * factor, box[std::size_t(axis)]));
+        const std::size_t a = std::size_t(axis);
+        partner[a] = T(std::fmod(double(partner[a]) + double(r) * factor, box[a]));
         points.insert(points.end(), partner.begin(), partner.end());
     }
     check_set<T, D>(points, r, box, "pairs at the radius, 2 threads", 2);
