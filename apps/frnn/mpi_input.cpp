@@ -1,9 +1,10 @@
-// Reading the input of a distributed query: offset reads of .npy, rank 0's read and a scatter
-// for the other formats, every rank's own slice of a generated set.
+// Reading the input of a distributed query: offset reads of .npy, every rank's own part of a
+// text file, rank 0's read and a scatter for .ply, every rank's own slice of a generated set.
 #include "mpi_input.hpp"
 
 #include <climits>
 #include <exception>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,38 @@ input_slice scatter(MPI_Comm comm, const io::point_set& all) {
     return s;
 }
 
+/// Every rank reads and parses its own part of a text file's lines (io::read_text_part); the
+/// parts' summaries, gathered, give each its line and point numbers, header and columns.
+input_slice read_text_slice(MPI_Comm comm, const std::string& file) {
+    int rank = 0, size = 0;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    std::string problem, lines;
+    try {
+        lines = io::read_text_part(file, std::uint64_t(rank), std::uint64_t(size));
+    } catch (const std::exception& e) {
+        problem = e.what();
+    }
+    mpi::throw_if_any(comm, problem);
+    const io::text_part_summary mine = io::summarize_text_part(lines);
+    std::vector<io::text_part_summary> parts(static_cast<std::size_t>(size));
+    MPI_Allgather(&mine, sizeof mine, MPI_BYTE, parts.data(), sizeof mine, MPI_BYTE, comm);
+    const io::text_context before = io::context_after(std::span(parts).first(static_cast<std::size_t>(rank)));
+    const io::text_context all = io::context_after(parts);
+    input_slice s;
+    try {
+        s.points = io::parse_text_part(lines, file, before);
+    } catch (const std::exception& e) {
+        problem = e.what();
+    }
+    // The lowest failing rank holds the file's first error: the parts are in file order.
+    mpi::throw_if_any(comm, problem);
+    s.points.dimension = all.columns == 0 ? 3 : int(all.columns);
+    s.first = before.points;
+    s.total = all.points;
+    return s;
+}
+
 }  // namespace
 
 input_slice read_input_slice(MPI_Comm comm, const query_args& a) {
@@ -73,6 +106,8 @@ input_slice read_input_slice(MPI_Comm comm, const query_args& a) {
         mpi::throw_if_any(comm, problem);
         return s;
     }
+    const std::string ext = lower_extension(a.input);
+    if (ext == ".csv" || ext == ".txt" || ext == ".xyz") return read_text_slice(comm, a.input);
     io::point_set all;
     if (rank == 0) {
         try {

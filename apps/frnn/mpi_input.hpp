@@ -1,8 +1,11 @@
 // This rank's share of the points of a distributed `frnn query`: rows [first, first + size) of
-// the input, in the nearly equal slices read_npy_slice defines (total * rank / ranks ...).
-//   .npy        every rank reads the header and its own rows' bytes (plain offset reads);
-//   other files rank 0 reads the whole file and scatters the slices (text and .ply rows have no
-//               fixed size to seek to);
+// the input, in rank order.
+//   .npy        every rank reads the header and its own rows' bytes (plain offset reads), the
+//               nearly equal slices read_npy_slice defines (total * rank / ranks ...);
+//   text        every rank reads and parses the lines that start in its share of the bytes
+//               (io::read_text_part), so its share of the points is nearly equal when the
+//               lines are;
+//   .ply        rank 0 reads the whole file and scatters the slices;
 //   --generate  every rank draws its own slice (the generators skip the draws of the points
 //               before it).
 // Bad input throws frnn::mpi::collective_error on every rank (CLI::ValidationError for a bad

@@ -199,7 +199,9 @@ void read_item(Cursor& c, const element& e, std::uint64_t item, double* out) {
             continue;
         }
         const double n = c.read(p.count_type, e, item, p);
-        if (n < 0 || n != std::floor(n))
+        // Each entry takes at least a byte, so the file ends before a longer list does; above
+        // 2^32 (a float count), n would not even convert to an integer.
+        if (n < 0 || n != std::floor(n) || n > 4294967295.0)
             detail::fail(c.name, "element '" + e.name + "' item " + std::to_string(item) +
                                      ": bad list length " + std::to_string(n) + " of property '" +
                                      p.name + "'");

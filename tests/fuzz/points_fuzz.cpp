@@ -1,6 +1,7 @@
 // Fuzzing the point-file readers: any bytes, read as a text (.csv/.xyz), .ply or .npy file,
 // give points or frnn::error, never a crash, a hang or memory beyond the file's size; the
-// points read are finite and in a dimension of 2 or 3.
+// points read are finite and in a dimension of 2 or 3; a text file read in parts (one per MPI
+// rank) gives what the whole gives.
 #include <unistd.h>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "frnn/error.hpp"
 #include "frnn/io/read.hpp"
 #include "fuzz_input.hpp"
+#include "io/text_in_parts.hpp"
 
 namespace frnn::fuzz {
 namespace {
@@ -63,6 +65,17 @@ void read_npy(std::string_view bytes) {
     }
 }
 
+/// A text file read in parts, as the ranks of a distributed query read it, gives the points or
+/// the first error of the whole.
+void read_text_in_parts(std::string_view bytes) {
+    const test::text_result whole = test::read_text_whole(bytes);
+    for (std::uint64_t parts : {2, 3, 7}) {
+        const test::text_result split = test::read_text_in_parts(bytes, parts);
+        if (split.error != whole.error || split.coords != whole.coords || split.dimension != whole.dimension)
+            fail(("a text file read in " + std::to_string(parts) + " parts differs from the whole: " + split.error).c_str());
+    }
+}
+
 }  // namespace
 }  // namespace frnn::fuzz
 
@@ -75,6 +88,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         else if (format == 1) frnn::fuzz::check(frnn::io::parse_ply_points(bytes, "fuzz.ply"));
     } catch (const frnn::error&) {
     }
+    if (format == 0) frnn::fuzz::read_text_in_parts(bytes);
     if (format == 2) frnn::fuzz::read_npy(bytes);
     return 0;
 }

@@ -161,6 +161,12 @@ TEST(ply_read, bad_list_length) {
                "property float y\nend_header\n-2\n",
                {"element 'a' item 0", "bad list length"});
 }
+TEST(ply_read, list_length_beyond_any_integer) {
+    // An ascii count far beyond 2^64 (found by the fuzzer: its conversion was undefined).
+    expect_bad("ply\nformat ascii 1.0\nelement a 1\nproperty list uchar int v\nelement vertex 0\nproperty float x\n"
+               "property float y\nend_header\n" + std::string(58, '4') + " 1 2\n",
+               {"element 'a' item 0", "bad list length"});
+}
 
 }  // namespace
 }  // namespace frnn::test

@@ -1,6 +1,9 @@
 // The text point reader (.csv/.txt/.xyz): separators, comments, header, and bad lines.
 #include "frnn/io/read.hpp"
 #include "io/test_files.hpp"
+#include "io/text_in_parts.hpp"
+
+#include <random>
 
 namespace frnn::test {
 namespace {
@@ -66,6 +69,79 @@ TEST(text_read, nan_names_point_and_line) { expect_bad("1 2\n3 4\n# x\nnan 5\n",
 TEST(text_read, infinity_names_point) { expect_bad("1,2,-inf\n", {"line 1", "point 0", "non-finite"}); }
 TEST(text_read, missing_file) {
     expect_error([] { io::read_points("/nonexistent/frnn/p.csv"); }, {"/nonexistent/frnn/p.csv", "cannot open"});
+}
+
+// Read in parts (one per MPI rank): the points and the first error of the whole file.
+
+/// A random text point file: data lines of 2 or 3 columns (commas or blanks, CRLF or not),
+/// comments, blank lines, a header and a byte order mark now and then, and now and then one
+/// line that the reader rejects somewhere.
+std::string random_text(std::mt19937& rng) {
+    auto chance = [&](double p) { return std::uniform_real_distribution<double>(0, 1)(rng) < p; };
+    auto pick = [&](int n) { return int(rng() % unsigned(n)); };
+    const int columns = chance(0.5) ? 2 : 3;
+    std::string text = chance(0.2) ? "\xEF\xBB\xBF" : "";
+    for (int k = 0, n = pick(3); k < n; ++k) text += chance(0.5) ? "\n" : "# comment, 1 2 3\n";
+    if (chance(0.5)) text += columns == 2 ? "x,y\n" : "x y z\n";
+    const int lines = pick(40);
+    const int bad_at = chance(0.5) ? pick(lines + 1) : -1;
+    static const char* bad_lines[] = {"1,2o,3", "x y", "1 2 3 4", "1", "nan 1 2", "1,,2", "1 2,3", ""};
+    for (int k = 0; k < lines; ++k) {
+        const char* end = chance(0.2) ? "\r\n" : "\n";
+        if (k == bad_at) {
+            text += bad_lines[pick(7)];
+            text += end;
+            continue;
+        }
+        if (chance(0.1)) text += chance(0.5) ? std::string("  # note") + end : std::string(end);
+        const int here = chance(0.03) ? 5 - columns : columns;  // a column count that changes
+        const char* sep = chance(0.5) ? "," : " \t";
+        for (int a = 0; a < here; ++a) text += (a ? sep : "") + std::to_string(pick(2000) - 1000) + "." + std::to_string(pick(100));
+        text += chance(0.1) ? " # trailing" : "";
+        text += end;
+    }
+    if (!text.empty() && chance(0.3)) text.pop_back();  // no final newline
+    return text;
+}
+
+TEST(text_read, parts_give_the_points_and_the_first_error_of_the_whole) {
+    std::mt19937 rng(5);
+    int failing = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const std::string text = random_text(rng);
+        const text_result whole = read_text_whole(text);
+        failing += !whole.error.empty();
+        for (std::uint64_t parts : {1, 2, 3, 5, 8, 13}) {
+            std::string joined;
+            for (std::uint64_t k = 0; k < parts; ++k) joined += io::text_part(text, k, parts);
+            ASSERT_EQ(joined, text.substr(text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0)) << "parts " << parts;
+            const text_result split = read_text_in_parts(text, parts);
+            ASSERT_EQ(split.error, whole.error) << "parts " << parts << " of\n" << text;
+            if (!whole.error.empty()) continue;
+            ASSERT_EQ(split.coords, whole.coords) << "parts " << parts << " of\n" << text;
+            ASSERT_EQ(split.dimension, whole.dimension) << "parts " << parts << " of\n" << text;
+        }
+    }
+    // Both kinds of file were drawn.
+    EXPECT_GT(failing, 50);
+    EXPECT_LT(failing, 350);
+}
+
+TEST(text_read, parts_read_from_a_file_are_its_parts) {
+    const auto dir = fresh_dir();
+    const auto file = dir / "p.xyz";
+    std::mt19937 rng(6);
+    std::vector<std::string> texts = {"", "\n", "1 2\n", "\xEF\xBB\xBF" "1 2\n3 4\n", "1 2\n3 4"};
+    // A line longer than the reader's buffer, with part boundaries inside it.
+    texts.push_back("1 2\n" + std::string(200000, ' ') + "3 4\n5 6\n");
+    for (int k = 0; k < 20; ++k) texts.push_back(random_text(rng));
+    for (const std::string& text : texts) {
+        write_bytes(file, text);
+        for (std::uint64_t parts : {1, 2, 3, 7, 40})
+            for (std::uint64_t k = 0; k < parts; ++k)
+                ASSERT_EQ(io::read_text_part(file, k, parts), io::text_part(text, k, parts)) << k << " of " << parts;
+    }
+    expect_error([&] { io::read_text_part(dir / "missing.csv", 0, 2); }, {"missing.csv", "cannot open"});
 }
 
 }  // namespace

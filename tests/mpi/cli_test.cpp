@@ -1,6 +1,6 @@
 // `mpirun -np P frnn query`: the output file is byte-identical to the single-process tool's at
 // P = 1..4 (rank_counts()) on every oracle set and through every reading path (.npy slices in C
-// and Fortran order, files read on rank 0 and scattered); the --json summary adds up; bad input
+// and Fortran order, text files read in parts, .ply read on rank 0 and scattered); the --json summary adds up; bad input
 // stops every rank with one clear message and no file; a killed rank ends the job within seconds.
 #include <gtest/gtest.h>
 
@@ -159,6 +159,10 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
     write_points<double, 3>(dir / "nan.npy", points);
     write_points<double, 3>(dir / "three.npy", uniform_points<double, 3>(3, 0, 4, 67));
     write_bytes(dir / "bad.csv", "x,y,z\n1,2,3\n1,two,3\n");
+    std::string rows = "x,y,z\n";
+    for (int k = 0; k < 30; ++k) rows += "1,2,3\n";
+    write_bytes(dir / "columns.csv", rows + "4,5\n");
+    write_bytes(dir / "nan.csv", rows + "1,nan,3\n");
     const std::vector<std::string> before = listing(dir);
 
     // A NaN in the last rank's slice: that rank finds it, every rank stops.
@@ -166,8 +170,13 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
                    "frnn: error: rank 2: nan.npy: point 25 has a non-finite coordinate");
     expect_failure(run_mpi(dir, 4, "query three.npy -r 1 -o out.npy"), 1,
                    "frnn: error: more ranks (4) than particles (3)");
-    // Rank 0 reads text files for everyone.
-    expect_failure(run_mpi(dir, 2, "query bad.csv -r 1 -o out.npy"), 1, "frnn: error: rank 0: bad.csv: line 3");
+    // Each rank reads its part of a text file; line and point numbers are the whole file's, and
+    // the columns of a later part are checked against the first data line's.
+    expect_failure(run_mpi(dir, 2, "query bad.csv -r 1 -o out.npy"), 1, "frnn: error: rank 1: bad.csv: line 3");
+    expect_failure(run_mpi(dir, 3, "query columns.csv -r 1 -o out.npy"), 1,
+                   "frnn: error: rank 2: columns.csv: line 32: 2 columns, but line 2 has 3");
+    expect_failure(run_mpi(dir, 3, "query nan.csv -r 1 -o out.npy"), 1,
+                   "frnn: error: rank 2: nan.csv: line 32: point 30 has a non-finite coordinate (nan)");
     // Ranks started with different options (an MPMD launch).
     auto two = [&](const std::string& first, const std::string& second) {
         return run_command(dir, "FRNN_NUM_THREADS=1 " + mpirun + " -np 1 " + tool + " query in.npy " + first + " : -np 1 " +

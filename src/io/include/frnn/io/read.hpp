@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,6 +45,41 @@ inline std::uint64_t slice_start(std::uint64_t n, std::uint64_t part, std::uint6
 point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts);
 point_set read_text_points(const std::filesystem::path& file);
 point_set read_ply_points(const std::filesystem::path& file);
+
+// A text point file read in parts (one per MPI rank), giving the points and the first error
+// that read_text_points gives: part k of P holds the lines that start in bytes
+// [slice_start(S, k, P), slice_start(S, k + 1, P)) of the file's S bytes. A part is summed up
+// without parsing its numbers (summarize_text_part); the summaries of the parts before it
+// settle what its lines are parsed against (context_after): line and point numbers, whether a
+// header may still come, and the first data line's columns.
+
+/// What a part's lines tell the parts after it.
+struct text_part_summary {
+    std::uint64_t lines = 0;     ///< lines in the part
+    std::uint64_t nonblank = 0;  ///< lines left after removing comments and blanks
+    /// The first two of those: line number within the part (from 1), number of fields, and
+    /// (the first) whether none of its fields is a number, as a header's.
+    std::uint64_t first_line = 0, first_fields = 0, first_is_header = 0;
+    std::uint64_t second_line = 0, second_fields = 0;
+};
+/// Where the parse of a text file stands after some of its lines.
+struct text_context {
+    std::uint64_t lines = 0;            ///< lines read
+    std::uint64_t points = 0;           ///< points read
+    bool any_nonblank = false;          ///< a nonblank line was read, so no header may follow
+    std::uint64_t columns = 0;          ///< fields of the first data line; 0: none yet
+    std::uint64_t first_data_line = 0;  ///< its line number
+};
+/// The lines of part `part` of `parts` of `text` (without the byte order mark at its start).
+std::string_view text_part(std::string_view text, std::uint64_t part, std::uint64_t parts);
+/// The same bytes read from a file: the part's share and the rest of its last line.
+std::string read_text_part(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts);
+text_part_summary summarize_text_part(std::string_view lines);
+/// The context after the parts summed up in `parts`, in file order.
+text_context context_after(std::span<const text_part_summary> parts);
+/// The points of a part's lines read after `before`; throws frnn::error as
+/// parse_text_points does, with line and point numbers in the whole file.
+point_set parse_text_part(std::string_view lines, std::string_view name, const text_context& before);
 
 /// The same parsers over bytes already in memory; `name` is the file name used in messages.
 point_set parse_text_points(std::string_view text, std::string_view name);
