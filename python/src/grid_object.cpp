@@ -195,9 +195,17 @@ py::array grid_object::query_pairs() const {
         g_);
 }
 
-py::tuple grid_object::neighbors(bool return_distances, const py::object& sort, bool half) const {
+py::tuple grid_object::neighbors(bool return_distances, const py::object& sort, bool half, const py::object& rows) const {
     list_options o;
     o.half = half;
+    if (!rows.is_none()) {
+        if (!PyIndex_Check(rows.ptr()))
+            throw py::type_error("rows must be an integer, got " + std::string(py::str(py::repr(rows))));
+        const long long m = py::reinterpret_steal<py::int_>(PyNumber_Index(rows.ptr())).cast<long long>();
+        // A count above the number of points is the core's error, which names both.
+        if (m < 0) throw py::value_error("rows must be >= 0, got " + std::to_string(m));
+        o.rows = std::size_t(m);
+    }
     o.distances = return_distances;
     o.order = parse_sort(sort);
     return std::visit(

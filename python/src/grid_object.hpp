@@ -46,7 +46,7 @@ public:
     grid_object(const py::object& points, const py::object& radius, const grid_args& args);
 
     py::array query_pairs() const;
-    py::tuple neighbors(bool return_distances, const py::object& sort, bool half) const;
+    py::tuple neighbors(bool return_distances, const py::object& sort, bool half, const py::object& rows) const;
     py::array count_neighbors() const;
     py::object query_ball_point(const py::object& x, const py::object& r, bool return_distances,
                                 const py::object& sort, bool return_length) const;

@@ -82,6 +82,9 @@ sort : {"index", "distance", None}
     traversal order (deterministic and cheapest).
 half : bool
     Keep only j > i: each pair once.
+rows : int, optional
+    Rows for points 0 .. rows - 1 only (every point may still be their neighbor): offsets
+    then has rows + 1 entries. At most N; default N.
 
 Returns
 -------
@@ -206,7 +209,7 @@ PYBIND11_MODULE(_frnn, m) {
         .def("query_pairs", &grid_object::query_pairs, query_pairs_doc)
         .def("neighbors", &grid_object::neighbors, neighbors_doc,
              py::arg("return_distances") = false, py::arg("sort") = "index",
-             py::arg("half") = false)
+             py::arg("half") = false, py::kw_only(), py::arg("rows") = py::none())
         .def("count_neighbors", &grid_object::count_neighbors, count_doc)
         .def("query_ball_point", &grid_object::query_ball_point, ball_doc, py::arg("x"),
              py::arg("r") = py::none(), py::kw_only(), py::arg("return_distances") = false,

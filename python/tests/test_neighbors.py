@@ -109,3 +109,26 @@ def test_bad_sort_raises(sort):
     g = frnn.Grid(uniform(10, 2, 1.0, 0), 0.5)
     with pytest.raises(ValueError, match="sort must be"):
         g.neighbors(sort=sort)
+
+
+@pytest.mark.parametrize("half", [False, True])
+def test_rows_of_the_first_points_are_those_of_the_full_lists(case, half):
+    name, points, radius, box = case
+    g = frnn.Grid(points, radius, periodic=box)
+    full = g.neighbors(return_distances=True, half=half)
+    n = len(points)
+    for m in sorted({0, 1, n // 3, n}):
+        offsets, indices, dists = g.neighbors(return_distances=True, half=half, rows=m)
+        assert len(offsets) == m + 1
+        np.testing.assert_array_equal(offsets, full[0][:m + 1])
+        np.testing.assert_array_equal(indices, full[1][:full[0][m]])
+        np.testing.assert_array_equal(dists, full[2][:full[0][m]])
+
+
+@pytest.mark.parametrize("rows, error, message", [(-1, ValueError, "rows must be >= 0"), (11, ValueError, "11"),
+                                                  (2.5, TypeError, "rows must be an integer, got 2.5")])
+def test_bad_rows_raise(rows, error, message):
+    g = frnn.Grid(uniform(10, 2, 1.0, 0), 0.5)
+    with pytest.raises(error, match=message):
+        g.neighbors(rows=rows)
+    assert len(g.neighbors(rows=np.int64(3))[0]) == 4
