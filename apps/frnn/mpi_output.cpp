@@ -262,10 +262,15 @@ void write_distributed(MPI_Comm comm, const std::string& file, global_rows<T> mi
             b = e;
         } while (b < lists.rows());
     };
-    // Sizes first (a .csv line has no fixed length): every rank's, to place each part.
+    // Sizes first, every rank's, to place each part: those of .npy and .npz follow from the
+    // counts; a .csv line has no fixed length, so .csv is encoded once to measure it.
     std::vector<std::uint64_t> sizes(3, 0), all_sizes(3 * std::size_t(c.size));
-    for (int m = 0; m < members; ++m)
-        for_each_block(m, [&](const std::string& bytes) { return sizes[std::size_t(m)] += bytes.size(), true; });
+    for (int m = 0; m < members; ++m) {
+        if (const auto size = io::encoded_size(format, m, lists.rows(), mine_entries, kept, closes))
+            sizes[std::size_t(m)] = *size;
+        else
+            for_each_block(m, [&](const std::string& bytes) { return sizes[std::size_t(m)] += bytes.size(), true; });
+    }
     MPI_Allgather(sizes.data(), 3, MPI_UINT64_T, all_sizes.data(), 3, MPI_UINT64_T, comm);
     const std::uint64_t entries = format == io::neighbor_format::lists_npz ? all_entries : all_kept;
     io::neighbor_frame frame;

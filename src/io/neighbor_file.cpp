@@ -142,6 +142,13 @@ void encode_rows(std::string& s, neighbor_format f, int member, const csr<T>& li
     }
 }
 
+std::optional<std::uint64_t> encoded_size(neighbor_format f, int member, std::uint64_t rows, std::uint64_t entries,
+                                          std::uint64_t kept, bool closes) {
+    if (f == neighbor_format::pairs_npy) return 16 * kept;  // two int64 a pair
+    if (f == neighbor_format::pairs_csv) return std::nullopt;
+    return 8 * (member == 0 ? rows + (closes ? 1 : 0) : entries);  // one int64 or double a value
+}
+
 checksum checksum_of(std::string_view bytes) { return extended({}, bytes); }
 
 checksum extended(checksum a, std::string_view bytes) {

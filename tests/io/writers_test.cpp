@@ -186,7 +186,12 @@ std::string assembled(io::neighbor_format f, const csr<T>& lists, const std::vec
         for (std::size_t k = 0; k < blocks.size(); ++k) {
             const io::row_numbering at{cuts[k], lists.offsets[cuts[k]]};
             std::string bytes = "left from before";
-            io::encode_rows(bytes, f, m, blocks[k], 0, blocks[k].rows(), at, filter, k + 1 == blocks.size());
+            const bool closes = k + 1 == blocks.size();
+            io::encode_rows(bytes, f, m, blocks[k], 0, blocks[k].rows(), at, filter, closes);
+            // Every entry of .npz is written: its sizes follow from the block's rows and entries.
+            if (f == io::neighbor_format::lists_npz) {
+                EXPECT_EQ(io::encoded_size(f, m, blocks[k].rows(), blocks[k].size(), 0, closes), bytes.size()) << "member " << m;
+            }
             sum = io::concatenate(sum, io::checksum_of(bytes));
             bodies[std::size_t(m)] += bytes;
         }
@@ -194,6 +199,14 @@ std::string assembled(io::neighbor_format f, const csr<T>& lists, const std::vec
         crcs.push_back(sum.crc);
     }
     const std::uint64_t entries = f == io::neighbor_format::lists_npz ? lists.size() : io::count_pairs(lists, filter);
+    for (int m = 0; m < io::member_count(f); ++m) {
+        const auto size = io::encoded_size(f, m, lists.rows(), lists.size(), io::count_pairs(lists, filter), true);
+        if (f == io::neighbor_format::pairs_csv) {
+            EXPECT_FALSE(size.has_value());
+        } else {
+            EXPECT_EQ(size, bodies[std::size_t(m)].size()) << "member " << m;
+        }
+    }
     const io::neighbor_frame frame = io::frame_of(f, "assembled", lists.rows(), entries, crcs);
     std::string file;
     for (int m = 0; m < io::member_count(f); ++m) file += frame.before[std::size_t(m)] + bodies[std::size_t(m)];

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -42,6 +43,12 @@ struct row_numbering {
 template <class T>
 void encode_rows(std::string& bytes, neighbor_format f, int member, const csr<T>& lists, std::size_t b, std::size_t e,
                  row_numbering at, pair_filter filter, bool closes);
+
+/// The bytes encode_rows writes for member m of `rows` rows holding `entries` list entries, of
+/// which `kept` pass the filter, summed over the blocks (`closes` as for the last one), where
+/// the format's values have one size (.npy, .npz); nullopt for .csv, whose lines vary.
+std::optional<std::uint64_t> encoded_size(neighbor_format f, int member, std::uint64_t rows, std::uint64_t entries,
+                                          std::uint64_t kept, bool closes);
 
 /// CRC-32 (zlib's) and length of some bytes: what the .npz frame needs of a member's body.
 struct checksum {
