@@ -37,6 +37,19 @@ std::size_t size_of(scalar s) {
     return sizes[int(s)];
 }
 
+/// Whether an ascii value fits an integer type (any value fits float and double).
+bool fits(scalar s, double v) {
+    static constexpr double lowest[] = {-128, 0, -32768, 0, -2147483648.0, 0};
+    static constexpr double highest[] = {127, 255, 32767, 65535, 2147483647.0, 4294967295.0};
+    if (s == scalar::f32 || s == scalar::f64) return true;
+    return v == std::floor(v) && v >= lowest[int(s)] && v <= highest[int(s)];
+}
+
+std::string_view name_of(scalar s) {
+    static constexpr std::string_view names[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"};
+    return names[int(s)];
+}
+
 struct property {
     std::string name;
     scalar type = scalar::f32;
@@ -170,7 +183,7 @@ struct ascii_cursor {
     std::size_t line;
     std::string_view name;
 
-    double read(scalar, const element& e, std::uint64_t item, const property& p) {
+    double read(scalar s, const element& e, std::uint64_t item, const property& p) {
         while (pos < data.size() && std::strchr(" \t\r\n", data[pos]) && data[pos] != '\0') {
             if (data[pos] == '\n') ++line;
             ++pos;
@@ -185,6 +198,7 @@ struct ascii_cursor {
         double v;
         if (!detail::parse_number(token, v))
             detail::fail(name, where + "'" + std::string(token) + "' is not a number");
+        if (!fits(s, v)) detail::fail(name, where + "'" + std::string(token) + "' is not a " + std::string(name_of(s)));
         return v;
     }
 };
@@ -199,9 +213,8 @@ void read_item(Cursor& c, const element& e, std::uint64_t item, double* out) {
             continue;
         }
         const double n = c.read(p.count_type, e, item, p);
-        // Each entry takes at least a byte, so the file ends before a longer list does; above
-        // 2^32 (a float count), n would not even convert to an integer.
-        if (n < 0 || n != std::floor(n) || n > 4294967295.0)
+        // Count types are integers, and ascii values fit their type: n converts exactly.
+        if (n < 0 || n != std::floor(n))
             detail::fail(c.name, "element '" + e.name + "' item " + std::to_string(item) +
                                      ": bad list length " + std::to_string(n) + " of property '" +
                                      p.name + "'");

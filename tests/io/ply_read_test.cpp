@@ -161,11 +161,17 @@ TEST(ply_read, bad_list_length) {
                "property float y\nend_header\n-2\n",
                {"element 'a' item 0", "bad list length"});
 }
-TEST(ply_read, list_length_beyond_any_integer) {
-    // An ascii count far beyond 2^64 (found by the fuzzer: its conversion was undefined).
+TEST(ply_read, ascii_integers_must_fit_their_type) {
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 1\nproperty uchar x\nproperty short y\nend_header\n";
+    expect_bad(head + "300 1\n", {"line 7", "property 'x'", "'300' is not a uchar"});
+    expect_bad(head + "3 1.5\n", {"line 7", "property 'y'", "'1.5' is not a short"});
+    expect_bad(head + "3 -40000\n", {"'-40000' is not a short"});
+    expect_bad(head + "-1 2\n", {"'-1' is not a uchar"});
+    expect_bad(head + "nan 2\n", {"'nan' is not a uchar"});
+    // A list count far beyond 2^64 (found by the fuzzer: its conversion was undefined).
     expect_bad("ply\nformat ascii 1.0\nelement a 1\nproperty list uchar int v\nelement vertex 0\nproperty float x\n"
                "property float y\nend_header\n" + std::string(58, '4') + " 1 2\n",
-               {"element 'a' item 0", "bad list length"});
+               {"element 'a' item 0", "property 'v'", "is not a uchar"});
 }
 
 }  // namespace
