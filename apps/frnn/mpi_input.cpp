@@ -1,9 +1,11 @@
-// Reading the input of a distributed query: offset reads of .npy, every rank's own part of a
-// text file, rank 0's read and a scatter for .ply, every rank's own slice of a generated set.
+// Reading the input of a distributed query: offset reads of .npy and of binary .ply, every
+// rank's own part of a text file, rank 0's read and a scatter for other .ply files, every
+// rank's own slice of a generated set.
 #include "mpi_input.hpp"
 
 #include <climits>
 #include <exception>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -108,6 +110,19 @@ input_slice read_input_slice(MPI_Comm comm, const query_args& a) {
     }
     const std::string ext = lower_extension(a.input);
     if (ext == ".csv" || ext == ".txt" || ext == ".xyz") return read_text_slice(comm, a.input);
+    if (ext == ".ply") {
+        std::optional<io::point_slice> p;
+        try {
+            p = io::read_ply_slice(a.input, std::uint64_t(rank), std::uint64_t(size));
+        } catch (const std::exception& e) {
+            problem = e.what();
+        }
+        mpi::throw_if_any(comm, problem);
+        // Slices on every rank, or the whole file on rank 0 (the ranks saw different files).
+        int sliced = p.has_value();
+        MPI_Allreduce(MPI_IN_PLACE, &sliced, 1, MPI_INT, MPI_MIN, comm);
+        if (sliced) return {std::move(p->points), p->first, p->total};
+    }
     io::point_set all;
     if (rank == 0) {
         try {

@@ -5,7 +5,9 @@
 //   text        every rank reads and parses the lines that start in its share of the bytes
 //               (io::read_text_part), so its share of the points is nearly equal when the
 //               lines are;
-//   .ply        rank 0 reads the whole file and scatters the slices;
+//   .ply        binary files without lists before or in the vertices: every rank reads the
+//               header and its own slice of vertices (io::read_ply_slice); other .ply files
+//               rank 0 reads whole and scatters;
 //   --generate  every rank draws its own slice (the generators skip the draws of the points
 //               before it).
 // Bad input throws frnn::mpi::collective_error on every rank (CLI::ValidationError for a bad

@@ -1,11 +1,15 @@
 // .ply point reader: the vertex element's x, y (and z when present) of any scalar type, in
 // ascii, binary_little_endian or binary_big_endian files. Elements before the vertices are
-// skipped item by item (list properties included); elements after them are not read.
+// skipped item by item (list properties included); elements after them are not read. A binary
+// file without lists before or in its vertices is also read in slices of rows (one per MPI rank).
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "frnn/io/read.hpp"
@@ -140,21 +144,24 @@ header parse_header(std::string_view bytes, std::string_view name) {
     return h;
 }
 
-// Binary data: scalars read at byte offsets, with bounds checks that name the item.
+// Binary data: scalars read at byte offsets, with bounds checks that name the item. `data` holds
+// the file's bytes from `base` on (all of them, or a slice's rows); pos is a file offset.
 struct binary_cursor {
     std::string_view data;
-    std::size_t pos;
+    std::uint64_t pos;
     bool swap;
     std::string_view name;
+    std::uint64_t base = 0;
 
     double read(scalar s, const element& e, std::uint64_t item, const property& p) {
         const std::size_t n = size_of(s);
-        if (data.size() - pos < n)
-            detail::fail(name, "byte " + std::to_string(data.size()) + ": data truncated in element '" +
+        const std::uint64_t end = base + data.size();
+        if (end - pos < n)
+            detail::fail(name, "byte " + std::to_string(end) + ": data truncated in element '" +
                                    e.name + "' item " + std::to_string(item) + " of " +
                                    std::to_string(e.count) + " (property '" + p.name + "')");
         unsigned char b[8];
-        std::memcpy(b, data.data() + pos, n);
+        std::memcpy(b, data.data() + (pos - base), n);
         pos += n;
         if (swap) std::reverse(b, b + n);
         auto as = [&]<class U>(U) {
@@ -222,11 +229,46 @@ void read_item(Cursor& c, const element& e, std::uint64_t item, double* out) {
     }
 }
 
+/// Where the points are: the vertex element, its coordinate properties and their type.
+struct vertex_layout {
+    std::size_t vertex = 0;    ///< index of the element
+    int axes[3] = {-1, -1, -1};  ///< property of x, y, z (-1: no z)
+    int dimension = 3;
+    bool all_float = true;     ///< every coordinate property is a float: read as float
+};
+
+vertex_layout layout_of(const header& h, std::string_view name) {
+    vertex_layout l;
+    while (l.vertex < h.elements.size() && h.elements[l.vertex].name != "vertex") ++l.vertex;
+    if (l.vertex == h.elements.size()) detail::fail(name, "the header has no 'vertex' element");
+    const element& v = h.elements[l.vertex];
+    for (std::size_t k = 0; k < v.props.size(); ++k)
+        for (int a = 0; a < 3; ++a)
+            if (v.props[k].name == std::string_view(&"xyz"[a], 1)) {
+                if (v.props[k].list)
+                    detail::fail(name, "line " + std::to_string(v.header_line) + ": vertex property '" +
+                                           v.props[k].name + "' is a list, expected a scalar");
+                l.axes[a] = int(k);
+                l.all_float = l.all_float && v.props[k].type == scalar::f32;
+            }
+    for (int a = 0; a < 2; ++a)
+        if (l.axes[a] < 0)
+            detail::fail(name, "line " + std::to_string(v.header_line) +
+                                   ": element 'vertex' has no property '" + "xy"[a] + "'");
+    l.dimension = l.axes[2] < 0 ? 2 : 3;
+    return l;
+}
+
+/// The coordinates of vertices [first, end); the items of the elements before them are read
+/// (and skipped) first when `from_start`, else the cursor already stands at vertex `first`.
 template <class T, class Cursor>
-std::vector<T> read_vertices(Cursor& c, const header& h, std::size_t vertex, const int (&axes)[3],
-                             int dimension) {
+std::vector<T> read_vertices(Cursor& c, const header& h, const vertex_layout& l, std::uint64_t first,
+                             std::uint64_t end, bool from_start) {
+    const std::size_t vertex = l.vertex;
+    const int dimension = l.dimension;
+    const auto& axes = l.axes;
     std::vector<double> values(64);
-    for (std::size_t e = 0; e < vertex; ++e) {
+    for (std::size_t e = 0; e < vertex && from_start; ++e) {
         if (h.elements[e].props.empty()) continue;
         values.resize(std::max(values.size(), h.elements[e].props.size()));
         for (std::uint64_t item = 0; item < h.elements[e].count; ++item)
@@ -236,8 +278,8 @@ std::vector<T> read_vertices(Cursor& c, const header& h, std::size_t vertex, con
     values.resize(std::max(values.size(), v.props.size()));
     std::vector<T> coords;
     // A lying count must not allocate more than the file could hold.
-    coords.reserve(std::min<std::size_t>(std::size_t(v.count) * std::size_t(dimension), c.data.size()));
-    for (std::uint64_t item = 0; item < v.count; ++item) {
+    coords.reserve(std::min<std::size_t>(std::size_t(end - first) * std::size_t(dimension), c.data.size()));
+    for (std::uint64_t item = first; item < end; ++item) {
         read_item(c, v, item, values.data());
         for (int a = 0; a < dimension; ++a) {
             const double x = values[std::size_t(axes[a])];
@@ -257,48 +299,83 @@ std::vector<T> read_vertices(Cursor& c, const header& h, std::size_t vertex, con
     return coords;
 }
 
-template <class T>
-std::vector<T> read_vertex_data(std::string_view bytes, const header& h, std::size_t vertex,
-                                const int (&axes)[3], int dimension, std::string_view name) {
-    if (h.format == encoding::ascii) {
-        ascii_cursor c{bytes, h.data_offset, h.lines + 1, name};
-        return read_vertices<T>(c, h, vertex, axes, dimension);
+/// Reads vertices [first, end) with `c`, as float or double as the layout says.
+template <class Cursor>
+point_set read_points_with(Cursor& c, const header& h, const vertex_layout& l, std::uint64_t first, std::uint64_t end,
+                           bool from_start) {
+    point_set points;
+    points.dimension = l.dimension;
+    if (l.all_float) points.coords = read_vertices<float>(c, h, l, first, end, from_start);
+    else points.coords = read_vertices<double>(c, h, l, first, end, from_start);
+    return points;
+}
+
+/// The bytes of one item of an element without lists; 0 when it has a list.
+std::uint64_t record_size(const element& e) {
+    std::uint64_t bytes = 0;
+    for (const property& p : e.props) {
+        if (p.list) return 0;
+        bytes += size_of(p.type);
     }
-    binary_cursor c{bytes, h.data_offset, h.format == encoding::big, name};
-    return read_vertices<T>(c, h, vertex, axes, dimension);
+    return bytes;
 }
 }  // namespace
 
 point_set parse_ply_points(std::string_view bytes, std::string_view name) {
     const header h = parse_header(bytes, name);
-    std::size_t vertex = 0;
-    while (vertex < h.elements.size() && h.elements[vertex].name != "vertex") ++vertex;
-    if (vertex == h.elements.size()) detail::fail(name, "the header has no 'vertex' element");
-    const element& v = h.elements[vertex];
+    const vertex_layout l = layout_of(h, name);
+    const std::uint64_t count = h.elements[l.vertex].count;
+    if (h.format == encoding::ascii) {
+        ascii_cursor c{bytes, h.data_offset, h.lines + 1, name};
+        return read_points_with(c, h, l, 0, count, true);
+    }
+    binary_cursor c{bytes, h.data_offset, h.format == encoding::big, name};
+    return read_points_with(c, h, l, 0, count, true);
+}
 
-    int axes[3] = {-1, -1, -1};
-    bool all_float = true;
-    for (std::size_t k = 0; k < v.props.size(); ++k)
-        for (int a = 0; a < 3; ++a)
-            if (v.props[k].name == std::string_view("xyz" + a, 1)) {
-                if (v.props[k].list)
-                    detail::fail(name, "line " + std::to_string(v.header_line) + ": vertex property '" +
-                                           v.props[k].name + "' is a list, expected a scalar");
-                axes[a] = int(k);
-                all_float = all_float && v.props[k].type == scalar::f32;
-            }
-    for (int a = 0; a < 2; ++a)
-        if (axes[a] < 0)
-            detail::fail(name, "line " + std::to_string(v.header_line) +
-                                   ": element 'vertex' has no property '" + "xy"[a] + "'");
+std::optional<point_slice> read_ply_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts) {
+    const std::string name = file.string();
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(name.c_str(), "rb"), std::fclose);
+    if (!f) detail::fail(name, std::string("cannot open: ") + std::strerror(errno));
+    std::error_code ec;
+    const std::uint64_t size = std::filesystem::file_size(file, ec);
+    if (ec) detail::fail(name, "cannot read size: " + ec.message());
+    // The header from the first 64 KiB; a longer one, or any problem with it, goes to the
+    // whole-file reader, which names it exactly.
+    std::string head(std::min<std::uint64_t>(size, 1 << 16), '\0');
+    if (std::fread(head.data(), 1, head.size(), f.get()) != head.size()) detail::fail(name, "read error in the header");
+    header h;
+    vertex_layout l;
+    try {
+        h = parse_header(head, name);
+        l = layout_of(h, name);
+    } catch (const error&) {
+        return std::nullopt;
+    }
+    // Slices need rows at fixed offsets: binary, and no list before or in the vertices.
+    if (h.format == encoding::ascii) return std::nullopt;
+    std::uint64_t at = h.data_offset;
+    for (std::size_t e = 0; e < l.vertex; ++e) {
+        const std::uint64_t bytes = record_size(h.elements[e]);
+        if (bytes == 0 && !h.elements[e].props.empty()) return std::nullopt;
+        at += bytes * h.elements[e].count;
+    }
+    const element& v = h.elements[l.vertex];
+    const std::uint64_t record = record_size(v);
+    if (record == 0 || at > size) return std::nullopt;  // the elements before end early: read whole
 
-    point_set points;
-    points.dimension = axes[2] < 0 ? 2 : 3;
-    if (all_float)
-        points.coords = read_vertex_data<float>(bytes, h, vertex, axes, points.dimension, name);
-    else
-        points.coords = read_vertex_data<double>(bytes, h, vertex, axes, points.dimension, name);
-    return points;
+    point_slice slice;
+    slice.total = v.count;
+    slice.first = slice_start(v.count, part, parts);
+    const std::uint64_t end = slice_start(v.count, part + 1, parts);
+    const std::uint64_t from = at + slice.first * record, to = std::min(size, at + end * record);
+    std::string rows(from < to ? to - from : 0, '\0');
+    if (!rows.empty() && (::fseeko(f.get(), off_t(from), SEEK_SET) != 0 ||
+                          std::fread(rows.data(), 1, rows.size(), f.get()) != rows.size()))
+        detail::fail(name, "read error: the file changed or ended while being read");
+    binary_cursor c{rows, from, h.format == encoding::big, name, from};
+    slice.points = read_points_with(c, h, l, slice.first, end, false);
+    return slice;
 }
 
 point_set read_ply_points(const std::filesystem::path& file) {

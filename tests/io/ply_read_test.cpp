@@ -1,6 +1,9 @@
 // The ply point reader: ascii and binary, vertex property types, skipped elements, bad files.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <optional>
+#include <random>
 
 #include "frnn/io/read.hpp"
 #include "io/test_files.hpp"
@@ -172,6 +175,115 @@ TEST(ply_read, ascii_integers_must_fit_their_type) {
     expect_bad("ply\nformat ascii 1.0\nelement a 1\nproperty list uchar int v\nelement vertex 0\nproperty float x\n"
                "property float y\nend_header\n" + std::string(58, '4') + " 1 2\n",
                {"element 'a' item 0", "property 'v'", "is not a uchar"});
+}
+
+// Read in slices of vertices (one per MPI rank): the points and the first error of the whole.
+
+/// Appends v's bytes, in big-endian order when asked.
+template <class V>
+void put(std::string& out, V v, bool big) {
+    char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);
+    if (big) std::reverse(b, b + sizeof v);
+    out.append(b, sizeof v);
+}
+
+/// A random binary .ply: an element before the vertices (scalars, or with a list: not
+/// sliceable), vertices with x, y, maybe z of float, double or int among other properties, an
+/// element after them; now and then a NaN coordinate or a file cut short.
+std::string random_binary_ply(std::mt19937& rng, bool& sliceable) {
+    auto pick = [&](int n) { return int(rng() % unsigned(n)); };
+    const bool big = pick(2) == 1;
+    const bool list_before = pick(5) == 0;
+    sliceable = !list_before;
+    const int before = pick(3), n = pick(40), dim = 2 + pick(2);
+    const char* types[] = {"float", "double", "int"};
+    const int coord_type = pick(3);
+    std::string ply = std::string("ply\nformat binary_") + (big ? "big" : "little") + "_endian 1.0\n";
+    ply += "element meta " + std::to_string(before) + "\nproperty uchar a\n";
+    if (list_before) ply += "property list uchar int l\n";
+    ply += "property double b\nelement vertex " + std::to_string(n) + "\nproperty uchar red\n";
+    for (int a = 0; a < dim; ++a) ply += std::string("property ") + types[coord_type] + " " + "xyz"[a] + "\n";
+    ply += "property int id\nelement face 1\nproperty list uchar int v\nend_header\n";
+    for (int k = 0; k < before; ++k) {
+        put(ply, std::uint8_t(k), big);
+        if (list_before) {
+            put(ply, std::uint8_t(2), big);
+            put(ply, std::int32_t(7), big);
+            put(ply, std::int32_t(8), big);
+        }
+        put(ply, 0.5 * k, big);
+    }
+    const int nan_at = pick(4) == 0 && coord_type != 2 ? pick(n + 1) : -1;
+    for (int k = 0; k < n; ++k) {
+        put(ply, std::uint8_t(k), big);
+        for (int a = 0; a < dim; ++a) {
+            const double x = k == nan_at && a == dim - 1 ? NAN : pick(2001) - 1000 + 0.25 * pick(4);
+            if (coord_type == 0) put(ply, float(x), big);
+            else if (coord_type == 1) put(ply, x, big);
+            else put(ply, std::int32_t(x), big);
+        }
+        put(ply, std::int32_t(k), big);
+    }
+    put(ply, std::uint8_t(0), big);  // the face: an empty list
+    if (pick(4) == 0) ply.resize(ply.size() - std::size_t(pick(int(std::min<std::size_t>(ply.size(), 60)))));
+    return ply;
+}
+
+TEST(ply_read, slices_give_the_points_and_the_first_error_of_the_whole) {
+    const auto dir = fresh_dir();
+    const auto file = dir / "p.ply";
+    std::mt19937 rng(9);
+    int failing = 0, sliced = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        bool sliceable = false;
+        write_bytes(file, random_binary_ply(rng, sliceable));
+        std::string whole_error;
+        io::point_set whole;
+        try {
+            whole = io::read_points(file);
+        } catch (const error& e) {
+            whole_error = e.what();
+        }
+        failing += !whole_error.empty();
+        for (std::uint64_t parts : {1, 2, 3, 5}) {
+            std::string error_message;
+            io::point_set joined;
+            bool any_slice = false;
+            for (std::uint64_t k = 0; k < parts && error_message.empty(); ++k) {
+                try {
+                    const std::optional<io::point_slice> s = io::read_ply_slice(file, k, parts);
+                    if (!s) break;
+                    any_slice = true;
+                    ASSERT_EQ(s->first, io::slice_start(s->total, k, parts));
+                    joined.dimension = s->points.dimension;
+                    std::visit([&](const auto& v) {
+                        using V = std::decay_t<decltype(v)>;
+                        if (k == 0) joined.coords = V{};
+                        auto& to = std::get<V>(joined.coords);
+                        to.insert(to.end(), v.begin(), v.end());
+                    }, s->points.coords);
+                } catch (const error& e) {
+                    error_message = e.what();
+                    any_slice = true;
+                }
+            }
+            // A truncated header or the data before the vertices cut short is read whole too.
+            if (!any_slice) continue;
+            ASSERT_TRUE(sliceable) << "a file with a list before its vertices was sliced";
+            sliced += parts == 2;
+            ASSERT_EQ(error_message, whole_error) << "parts " << parts << " trial " << trial;
+            if (!whole_error.empty()) continue;
+            ASSERT_EQ(joined.dimension, whole.dimension);
+            ASSERT_TRUE(joined.coords == whole.coords) << "parts " << parts << " trial " << trial;
+        }
+    }
+    EXPECT_GT(failing, 30);
+    EXPECT_GT(sliced, 150);
+    // Ascii files are read whole.
+    write_bytes(file, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n");
+    EXPECT_FALSE(io::read_ply_slice(file, 0, 2).has_value());
+    expect_error([&] { io::read_ply_slice(dir / "missing.ply", 0, 2); }, {"missing.ply", "cannot open"});
 }
 
 }  // namespace

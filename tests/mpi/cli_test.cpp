@@ -1,6 +1,7 @@
 // `mpirun -np P frnn query`: the output file is byte-identical to the single-process tool's at
 // P = 1..4 (rank_counts()) on every oracle set and through every reading path (.npy slices in C
-// and Fortran order, text files read in parts, .ply read on rank 0 and scattered); the --json summary adds up; bad input
+// and Fortran order, text files read in parts, binary .ply in slices, ascii .ply read on rank 0
+// and scattered); the --json summary adds up; bad input
 // stops every rank with one clear message and no file; a killed rank ends the job within seconds.
 #include <gtest/gtest.h>
 
@@ -61,7 +62,7 @@ std::size_t occurrences(const std::string& text, const std::string& part) {
 /// and compares the output files byte for byte.
 template <class T, int D>
 void expect_same_files(const char* name, const std::vector<T>& points, const std::string& input, const std::string& output,
-                       const std::string& options, bool fortran_order = false) {
+                       const std::string& options, bool fortran_order = false, bool binary = false) {
     SCOPED_TRACE(name);
     const scratch_dir dir(std::string("mpi_cli_") + name);
     if (fortran_order) {
@@ -75,7 +76,7 @@ void expect_same_files(const char* name, const std::vector<T>& points, const std
                                                std::to_string(D) + "), }",
                                            columns));
     } else {
-        write_points<T, D>(dir / input, points);
+        write_points<T, D>(dir / input, points, binary);
     }
     const tool_result serial = run_tool(dir, "query " + input + " " + options + " -o serial" + output);
     ASSERT_EQ(serial.code, 0) << serial.err;
@@ -108,6 +109,9 @@ TEST(MpiCli, OutputIsTheSingleProcessFileOnEveryOracleSet) {
     append_point<double, 3>(outliers, -1e6);
     append_point<double, 3>(outliers, 1e6 + 0.25);
     expect_same_files<double, 3>("outliers", outliers, "in.ply", ".csv", "-r 0.5");
+    // Binary .ply: every rank reads its own slice of vertices.
+    expect_same_files<float, 3>("binary_ply", uniform_points<float, 3>(2000, 0, 10, 69), "in.ply", ".npy", "-r 0.8",
+                                false, true);
     expect_same_files<float, 2>("duplicates", with_duplicates(uniform_points<float, 2>(250, 0, 4, 65), 2, 3), "in.npy",
                                 ".npz", "-r 0.5");
     expect_same_files<double, 3>("lattice", lattice_points<double, 3>(8, 1.0), "in.xyz", ".csv", "-r 1");

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,6 +46,12 @@ inline std::uint64_t slice_start(std::uint64_t n, std::uint64_t part, std::uint6
 point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts);
 point_set read_text_points(const std::filesystem::path& file);
 point_set read_ply_points(const std::filesystem::path& file);
+/// Vertex slice `part` of `parts` of a binary .ply whose elements up to the vertices have no
+/// list (their rows then lie at fixed offsets): reads the header and only those rows' bytes,
+/// and gives the points and the first error that read_ply_points gives for them (vertex
+/// numbers in the file). nullopt for any other .ply (ascii, lists, a header beyond 64 KiB or
+/// in error, data ending before the vertices): read it whole.
+std::optional<point_slice> read_ply_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts);
 
 // A text point file read in parts (one per MPI rank), giving the points and the first error
 // that read_text_points gives: part k of P holds the lines that start in bytes
