@@ -289,10 +289,10 @@ void run_query(query_args a) {
     query_report r;
     stopwatch clock;
 
-    io::point_set data = a.input.empty() ? generate_points(a.generate, a.dim, a.seed) : io::read_points(a.input);
+    io::point_set data = a.input.empty() ? generate_points(a.generate, a.dim, a.seed) : io::read_points(a.input, a.threads);
     io::point_set queries;
     if (!a.queries.empty()) {
-        queries = io::read_points(a.queries);
+        queries = io::read_points(a.queries, a.threads);
         if (queries.size() > 0 && queries.dimension != data.dimension)
             throw error(a.queries + ": " + std::to_string(queries.dimension) + "-D points, but the data points are " +
                         std::to_string(data.dimension) + "-D");

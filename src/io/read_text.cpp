@@ -8,9 +8,12 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
+#include <variant>
 #include <vector>
 
 #include "frnn/io/read.hpp"
+#include "frnn/parallel.hpp"
 #include "util.hpp"
 
 namespace frnn::io {
@@ -211,8 +214,37 @@ std::string read_text_part(const std::filesystem::path& file, std::uint64_t part
     return lines;
 }
 
-point_set read_text_points(const std::filesystem::path& file) {
-    return parse_text_points(detail::read_file(file), file.string());
+point_set read_text_points(const std::filesystem::path& file, int threads) {
+    const std::string bytes = detail::read_file(file);
+    const std::string_view text = bytes;
+    const std::string name = file.string();
+    // A part of at least 1 MiB per thread: smaller files are parsed in one.
+    const std::size_t parts = std::clamp<std::size_t>(text.size() >> 20, 1, std::size_t(resolve_thread_count(threads)));
+    if (parts == 1) return parse_text_points(text, name);
+    std::vector<text_part_summary> summaries(parts);
+    parallel_chunks(parts, threads, [&](std::size_t k, int) { summaries[k] = summarize_text_part(text_part(text, k, parts)); });
+    std::vector<point_set> read(parts);
+    std::vector<std::string> errors(parts);
+    parallel_chunks(parts, threads, [&](std::size_t k, int) {
+        try {
+            read[k] = parse_text_part(text_part(text, k, parts), name, context_after(std::span(summaries).first(k)));
+        } catch (const error& e) {
+            errors[k] = e.what();
+        }
+    });
+    for (const std::string& e : errors)  // the first part's error is the file's first
+        if (!e.empty()) throw error(e);
+    const text_context all = context_after(summaries);
+    std::vector<double> coords;
+    coords.reserve(std::size_t(all.points * all.columns));
+    for (const point_set& p : read) {
+        const auto& part = std::get<std::vector<double>>(p.coords);
+        coords.insert(coords.end(), part.begin(), part.end());
+    }
+    point_set points;
+    points.dimension = all.columns == 0 ? 3 : int(all.columns);
+    points.coords = std::move(coords);
+    return points;
 }
 
 }  // namespace frnn::io

@@ -127,6 +127,36 @@ TEST(text_read, parts_give_the_points_and_the_first_error_of_the_whole) {
     EXPECT_LT(failing, 350);
 }
 
+TEST(text_read, files_parsed_on_threads_are_parsed_as_in_one) {
+    const auto dir = fresh_dir();
+    const auto file = dir / "big.csv";
+    // Files of a few MiB, split at 1 MiB a part: random lines, a bad one at a random place
+    // in some; the points or the first error are those of one serial parse.
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 6; ++trial) {
+        std::string text = "x,y,z\n";
+        while (text.size() < (std::size_t(3) << 20))
+            text += std::to_string(rng() % 1000) + ",2.5,-" + std::to_string(rng() % 77) + "\n";
+        // Trials 1, 3 and 5: a bad line in the first, second or third MiB.
+        if (trial % 2 == 1) text.insert(text.find('\n', text.size() * std::size_t(trial) / 6) + 1, trial == 3 ? "1,2\n" : "1,nan,3\n");
+        write_bytes(file, text);
+        const text_result serial = read_text_whole(text);
+        for (int threads : {1, 2, 3}) {
+            text_result parallel;
+            try {
+                const io::point_set p = io::read_points(file, threads);
+                parallel.coords = coords_of(p);
+                parallel.dimension = p.dimension;
+            } catch (const error& e) {
+                parallel.error = std::string(e.what()).replace(0, file.string().size(), "p.csv");
+            }
+            ASSERT_EQ(parallel.error, serial.error) << threads << " threads";
+            ASSERT_EQ(parallel.dimension, serial.dimension);
+            ASSERT_TRUE(parallel.coords == serial.coords) << threads << " threads";
+        }
+    }
+}
+
 TEST(text_read, parts_read_from_a_file_are_its_parts) {
     const auto dir = fresh_dir();
     const auto file = dir / "p.xyz";

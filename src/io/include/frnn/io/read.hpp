@@ -19,8 +19,10 @@
 
 namespace frnn::io {
 
-/// Reads a point file, choosing the format by its extension (case-insensitive).
-point_set read_points(const std::filesystem::path& file);
+/// Reads a point file, choosing the format by its extension (case-insensitive). Text files of
+/// a few MiB and more are parsed in parts on `threads` threads (0: default_thread_count()),
+/// with the points and the first error of a serial parse.
+point_set read_points(const std::filesystem::path& file, int threads = 0);
 /// True when read_points knows the extension of `file`.
 bool is_point_file(const std::filesystem::path& file);
 
@@ -44,7 +46,7 @@ inline std::uint64_t slice_start(std::uint64_t n, std::uint64_t part, std::uint6
 /// Checks the whole file's header and size as read_npy_points does; a non-finite coordinate is
 /// named by its index in the file.
 point_slice read_npy_slice(const std::filesystem::path& file, std::uint64_t part, std::uint64_t parts);
-point_set read_text_points(const std::filesystem::path& file);
+point_set read_text_points(const std::filesystem::path& file, int threads = 0);
 point_set read_ply_points(const std::filesystem::path& file);
 /// Vertex slice `part` of `parts` of a binary .ply whose elements up to the vertices have no
 /// list (their rows then lie at fixed offsets): reads the header and only those rows' bytes,
