@@ -118,7 +118,8 @@ input_slice read_input_slice(MPI_Comm comm, const query_args& a) {
             problem = e.what();
         }
         mpi::throw_if_any(comm, problem);
-        // Slices on every rank, or the whole file on rank 0 (the ranks saw different files).
+        // Slices only if every rank has one (ranks that see different files may disagree);
+        // else rank 0 reads the file whole, below.
         int sliced = p.has_value();
         MPI_Allreduce(MPI_IN_PLACE, &sliced, 1, MPI_INT, MPI_MIN, comm);
         if (sliced) return {std::move(p->points), p->first, p->total};
