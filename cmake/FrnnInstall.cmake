@@ -38,3 +38,5 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/frnnConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/frnnConfig.cmake ${PROJECT_BINARY_DIR}/frnnConfigVersion.cmake
   DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/frnn)
+# The licence (MIT) travels with every install; frnnConfig.cmake names it as frnn_LICENSE.
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})

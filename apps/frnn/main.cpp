@@ -15,6 +15,7 @@ std::vector<command>& commands() {
 
 int main(int argc, char** argv) {
     CLI::App app{"frnn: fast fixed-radius neighbor search of particles"};
+    app.set_version_flag("--version", "frnn " FRNN_VERSION);
     app.require_subcommand(1);
     auto& cmds = frnn::app::commands();
     std::sort(cmds.begin(), cmds.end(), [](auto& a, auto& b) { return a.name < b.name; });
@@ -24,6 +25,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const frnn::app::exit_status& e) {
         if (!e.message.empty()) std::fprintf(stderr, "frnn: %s\n", e.message.c_str());

@@ -32,7 +32,12 @@ with zipfile.ZipFile(wheels[0]) as wheel:
 for wanted in ("frnn/__init__.py", "frnn/__init__.pyi", "frnn/py.typed"):
     assert wanted in names, f"{wheels[0].name} lacks {wanted}"
 assert any(n.startswith("frnn/_frnn") and n.endswith(".so") for n in names), names
-assert f"frnn-{frnn.__version__}.dist-info/METADATA" in names, names
+dist_info = f"frnn-{frnn.__version__}.dist-info"
+assert f"{dist_info}/METADATA" in names, names
+assert any(n.startswith(dist_info) and n.endswith("/LICENSE") for n in names), f"no LICENSE in {names}"
+with zipfile.ZipFile(wheels[0]) as wheel:
+    metadata = wheel.read(f"{dist_info}/METADATA").decode()
+assert "License: MIT" in metadata.splitlines(), metadata
 
 print(f"frnn {frnn.__version__} from {module_file}: {len(found)} pairs as cKDTree; "
       f"wheel {wheels[0].name}")

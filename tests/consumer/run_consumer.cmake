@@ -2,6 +2,8 @@
 #   PROJECT_DIR  the consumer's source        WORK_DIR   scratch folder, recreated each run
 #   GENERATOR, MAKE_PROGRAM, CXX_COMPILER, CXX_FLAGS, CONFIG: those of the frnn build
 #   INSTALL_FROM a frnn build tree to install into WORK_DIR/prefix first (find_package test)
+#   INSTALLED    with INSTALL_FROM: files that must be in the prefix, separated by '|'
+#   TOOL_VERSION with INSTALL_FROM: what the installed `bin/frnn --version` must print
 #   FRNN_SOURCE_DIR, frnn_DIR, FRNN_EXPECTED_VERSION, FRNN_EXPECT_VULKAN: passed on to the
 #                consumer's configure when set
 cmake_minimum_required(VERSION 3.25)
@@ -31,6 +33,20 @@ if(INSTALL_FROM)
     list(APPEND install_cmd --config ${CONFIG})
   endif()
   run("cmake --install" ${install_cmd})
+  string(REPLACE "|" ";" installed "${INSTALLED}")
+  foreach(file ${installed})
+    if(NOT EXISTS ${WORK_DIR}/prefix/${file})
+      message(FATAL_ERROR "consumer: cmake --install put no ${file} into the prefix")
+    endif()
+  endforeach()
+  if(TOOL_VERSION)
+    execute_process(COMMAND ${WORK_DIR}/prefix/bin/frnn --version RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+    string(STRIP "${out}" out)
+    if(NOT rc EQUAL 0 OR NOT out STREQUAL TOOL_VERSION)
+      message(FATAL_ERROR "consumer: installed frnn --version printed '${out}' (exit ${rc}), not '${TOOL_VERSION}'")
+    endif()
+    message(STATUS "consumer: installed ${out}")
+  endif()
   list(APPEND args -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
 endif()
 if(MAKE_PROGRAM)
