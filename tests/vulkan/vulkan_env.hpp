@@ -4,6 +4,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -51,7 +52,15 @@ std::string error_of(F&& f) {
     return "(no frnn::error thrown)";
 }
 
-/// Base fixture: skips without a device; fails a test that produced validation messages.
+/// Whether FRNN_STRICT=1 (CI): then a missing device fails the tests instead of skipping them,
+/// so that a regression in creating the context cannot read as "no device".
+inline bool strict_mode() {
+    const char* s = std::getenv("FRNN_STRICT");
+    return s && std::string(s) == "1";
+}
+
+/// Base fixture: skips without a device (fails under FRNN_STRICT=1); fails a test that
+/// produced validation messages.
 class vulkan_test : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -61,6 +70,7 @@ protected:
         const auto early = validation_messages().take();
         if (!ctx_) {
             for (const auto& m : early) why += "; " + m;
+            if (strict_mode()) FAIL() << "no Vulkan device, and FRNN_STRICT=1 requires one: " << why;
             GTEST_SKIP() << "no Vulkan device: " << why;
         }
     }
