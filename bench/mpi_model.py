@@ -21,7 +21,7 @@ import math
 p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 p.add_argument("--n-total", type=float, default=1e8, help="particles in all (strong scaling)")
 p.add_argument("--local-ns", type=float, required=True, help="measured local work per particle at 1 rank (ns)")
-p.add_argument("--ghost-ns", type=float, required=True, help="measured grid cost per ghost (ns)")
+p.add_argument("--ghost-ns", type=float, required=True, help="grid cost per ghost (ns): assumed, not measured apart from the local work")
 p.add_argument("--alpha-us", type=float, default=2.0, help="latency of one message (us)")
 p.add_argument("--overhead-us", type=float, default=0.3, help="cost of posting one more message (us)")
 p.add_argument("--bandwidth-gbs", type=float, default=1.0, help="bandwidth per rank (GB/s)")

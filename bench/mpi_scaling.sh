@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The strong scaling of the distributed rebuild (frnn_mpi_bench) on W1 and W2 of BENCHMARKS.md:
+# The strong scaling of the distributed rebuild (frnn_mpi_bench) on W1 and W2 of bench/README.md:
 # 1 and 2 ranks of one thread each, and 4 ranks, which oversubscribe a 2-core machine (marked
 # so). Prints a Markdown table: medians of the rounds, efficiency T1 / (P * TP), bytes sent to
 # other ranks per particle per rebuild, and the time split into exchange and local work; then

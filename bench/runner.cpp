@@ -369,7 +369,7 @@ void parse_sides(std::string_view text, config& cfg) {
     parse_size_list(text, "--side", "S or W1=S", all, one);
     for (const auto& [id, sides] : one)
         if (!find_workload(id).lattice)
-            throw error("bench: --side: " + id + " is not a lattice workload (W1, W4 and W5 are); give its --n");
+            throw error("bench: --side: " + id + " is not a lattice workload (W1, W4, W5 and W8 are); give its --n");
     for (const auto& [id, sides] : one)
         cfg.workload_sides[id].insert(cfg.workload_sides[id].end(), sides.begin(), sides.end());
     cfg.sides.insert(cfg.sides.end(), all.begin(), all.end());
@@ -414,7 +414,7 @@ report run(const config& cfg) {
         if (!selected(id)) throw error("bench: --side gives sides for " + id + ", which --workload does not select");
     if (!cfg.sides.empty() &&
         std::none_of(cfg.workloads.begin(), cfg.workloads.end(), [](const std::string& id) { return find_workload(id).lattice; }))
-        throw error("bench: --side needs a lattice workload (W1, W4 or W5) in --workload");
+        throw error("bench: --side needs a lattice workload (W1, W4, W5 or W8) in --workload");
     // Resolve every workload and size before the first (long) measurement.
     std::vector<std::pair<const workload*, std::size_t>> plan;
     for (const auto& id : cfg.workloads) {

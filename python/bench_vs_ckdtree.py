@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""frnn against scipy.spatial.cKDTree on workloads W1, W2 and W8 of BENCHMARKS.md, same process.
+"""frnn against scipy.spatial.cKDTree on workloads W1, W2 and W8 of bench/README.md, same process.
 
 Usage: PYTHONPATH=<build>/python /usr/bin/python3 python/bench_vs_ckdtree.py [--side 64] [--md-cells 20]
 
@@ -51,8 +51,9 @@ from scipy.spatial import cKDTree
 
 # Python puts this script's folder first on sys.path, and it holds the frnn sources without the
 # compiled module: import the built package from PYTHONPATH instead.
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path = [p for p in sys.path if os.path.abspath(p or ".") != _here]
+# Compared as real paths: the script may be called through a symbolic link.
+_here = os.path.dirname(os.path.realpath(__file__))
+sys.path = [p for p in sys.path if os.path.realpath(p or ".") != _here]
 import frnn  # noqa: E402
 
 

@@ -1,4 +1,4 @@
-// `frnn bench`: the benchmark driver (workloads of BENCHMARKS.md, baselines, CSV/Markdown/PNG).
+// `frnn bench`: the benchmark driver (workloads of bench/README.md, baselines, CSV/Markdown/PNG).
 // Built only when the frnn_bench library exists (FRNN_BUILD_BENCHMARKS); otherwise the
 // subcommand says how to get it.
 #include <iostream>
@@ -100,7 +100,7 @@ void run_bench(bench_args a) {
 const register_command reg{"bench", [](CLI::App& app) {
     auto args = std::make_shared<bench_args>();
     auto* sub = app.add_subcommand(
-        "bench", "Measure build and queries on the workloads of BENCHMARKS.md, with baselines");
+        "bench", "Measure build and queries on the workloads of bench/README.md, with baselines");
     sub->add_option("--workload", args->workloads, "W1..W5, W7, W8, all, or a comma list (W1,W2)")
         ->capture_default_str();
     sub->add_option("--n", args->sizes,
@@ -109,7 +109,7 @@ const register_command reg{"bench", [](CLI::App& app) {
                     "workloads W1, W4, W5 take the lattice count nearest to N");
     sub->add_option("--side", args->sides,
                     "lattice sides, beside or instead of --n: S (every lattice workload) or W=S "
-                    "(W1, W4 or W5, e.g. W1=100: 100^3 points)");
+                    "(W1, W4, W5 or W8, e.g. W1=100: 100^3 points)");
     sub->add_option("--threads", args->threads, "thread counts, comma list")
         ->delimiter(',')
         ->capture_default_str();

@@ -3,7 +3,7 @@
 // When another process takes a core, the kernel often places a woken worker on its caller's CPU
 // (that CPU looks the less loaded one), and then two threads of one call share a core while the
 // busy process has the other to itself, until the load balancer moves one of them milliseconds
-// later (docs/PERFORMANCE.md, "Speed under load", has the figures with and without this rule).
+// later (docs/DESIGN.md's table of alternatives has the figures without this rule).
 // So a worker that finds a thread before it in its job (the caller is thread 0) on its own CPU
 // narrows its own affinity (never the caller's) to the CPUs it was allowed minus those of the
 // job's other threads. Only when the job has no more threads than there are CPUs.

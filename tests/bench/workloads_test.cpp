@@ -1,4 +1,4 @@
-// The generators follow BENCHMARKS.md: sizes, bounds, dimension, determinism.
+// The generators follow bench/README.md: sizes, bounds, dimension, determinism.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Baseline: brute force O(N^2), single-threaded, for N <= 32,768 only (BENCHMARKS.md). The
+// Baseline: brute force O(N^2), single-threaded, for N <= 32,768 only (bench/README.md). The
 // lists come from frnn's own oracle (frnn/brute_force.hpp); the counts use its distance formula
 // without storing anything. Thread-safe: no shared state.
 #pragma once

@@ -1,5 +1,5 @@
-// The workloads of BENCHMARKS.md (W1..W5, W7, W8), generated in process from std::mt19937_64 seeded
-// with 42, drawing x, then y, then z of each point in order. O(N) time and memory.
+// The workloads of bench/README.md (W1..W5, W7, W8), generated in process from std::mt19937_64
+// seeded with 42, drawing x, then y, then z of each point in order. O(N) time and memory.
 //
 // The mapping from the generator's 64-bit words to numbers is fixed here (not left to the
 // standard library's distributions, which differ between implementations), so the same size
@@ -81,7 +81,7 @@ double periodic_box(const workload& w, std::size_t n);
 /// coordinate moved by uniform(-0.05, 0.05) lattice constants, wrapped into [0, L).
 template <class T>
 std::vector<T> fcc_lattice(std::size_t side, unsigned long long seed);
-/// Seed of the workloads (BENCHMARKS.md) and of the "update" motion drawn after them.
+/// Seed of the workloads (bench/README.md) and of the "update" motion drawn after them.
 inline constexpr unsigned long long workload_seed = 42;
 inline constexpr unsigned long long motion_seed = 43;
 

@@ -106,8 +106,8 @@ struct scene {
     vec3 gravity{0, -9.81, 0};
     vec3 domain_min{0, 0, 0}, domain_max{1, 1, 1};  ///< grid bounds and camera framing
     /// Periodic box lengths: particles live in [0, L) on each axis, wrapped, and pair vectors
-    /// take the minimum image. All 0 (the default): open. Otherwise every axis of the scene's
-    /// dimension needs a length > 0 (open axes in a periodic box wait for the core's support).
+    /// take the minimum image. A length of 0 leaves that axis open (a channel or a slab); all 0,
+    /// the default, is an open domain.
     vec3 periodic{0, 0, 0};
     std::vector<fluid_block> fluid;
     std::vector<collider> colliders;
