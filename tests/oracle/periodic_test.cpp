@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/grid_access.hpp"
+#include "oracle/independent_oracle.hpp"
 #include "oracle/oracle_check.hpp"
 #include "oracle/point_sets.hpp"
 
@@ -32,6 +33,7 @@ void periodic_case(const std::vector<double>& box_in_r, T r, std::size_t n, std:
     for (int a = 0; a < D; ++a) box.push_back(box_in_r[a] * double(r));
     const auto pts = in_box<T, D>(n, box, seed);
     const auto queries = query_points<T, D>(pts, r, 80, box, seed + 1);
+    expect_independent_pairs<T, D>(pts, r, box);
     // Periodic grids are uniform whatever the kind asked for, so one kind per cell size.
     for (auto kind : {grid_kind::automatic, grid_kind::hashed}) {
         for (double f : {1.0, 0.5, 1.0 / 3, 0.25}) {
