@@ -52,6 +52,7 @@ void run(const std::string& bytes) {
     }
     std::filesystem::remove(file);  // before the steps: a finding stops the process
     if (!loaded) return;
+    reached_checks();
     try {
         run.step();
         run.step();

@@ -10,4 +10,11 @@ void fail(const char* what) {
     std::abort();
 }
 
+namespace {
+std::size_t reached = 0;
+}
+
+void reached_checks() { ++reached; }
+std::size_t checks_reached() { return reached; }
+
 }  // namespace frnn::fuzz

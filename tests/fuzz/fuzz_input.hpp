@@ -65,4 +65,10 @@ private:
 /// Stops the run with a message: a finding of the fuzzer (and a failed replay test).
 [[noreturn]] void fail(const char* what);
 
+/// Called by a harness when an input got past every refusal to its checks (the oracle, a
+/// round trip). The replay tests require a minimum number of such inputs, so that a build that
+/// refused every input could not pass them.
+void reached_checks();
+std::size_t checks_reached();  ///< calls of reached_checks() so far
+
 }  // namespace frnn::fuzz

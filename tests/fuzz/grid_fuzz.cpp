@@ -83,6 +83,7 @@ void run(fuzz_input& in) {
     const auto two = build<T, D>(points, radius, radii, o, 2);
     if (one.has_value() != two.has_value()) fail("a build refused its input at one thread count only");
     if (!one) return;
+    reached_checks();
 
     const std::span<const double> box(o.periodic);
     const T grid_radius = one->radius();

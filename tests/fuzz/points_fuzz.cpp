@@ -23,6 +23,7 @@ namespace frnn::fuzz {
 namespace {
 
 void check(const io::point_set& p) {
+    reached_checks();
     if (p.dimension != 2 && p.dimension != 3) fail("a reader gave a dimension other than 2 or 3");
     std::visit(
         [&](const auto& v) {

@@ -20,6 +20,7 @@ void run(std::string_view text) {
     } catch (const error&) {
         return;
     }
+    reached_checks();
     const std::string json = sim::scene_to_json(s);
     sim::scene again;
     try {

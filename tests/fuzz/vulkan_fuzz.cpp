@@ -53,6 +53,7 @@ void float_case(const auto& c, auto dim) {
     } catch (const error&) {
         return;
     }
+    reached_checks();
     const std::span<const double> box(c.options.periodic);
     const csr<float> lists = g.neighbor_lists(by_index());
     if (!same(lists, brute_force_lists<float, D>(points, points, radius, true, box), true))
@@ -111,6 +112,7 @@ void double_case(const auto& c, auto dim) {
         const csr<double> want = own ? brute_force_lists<double, D>(points, points, radius, true, box)
                                      : brute_force_lists<double, D>(queries, points, radius, false, box);
         if (!same(*got, want, true)) fail("the device's double search differs from the brute-force oracle");
+        reached_checks();
     }
 }
 
