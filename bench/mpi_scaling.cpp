@@ -1,11 +1,11 @@
 // frnn_mpi_bench: the distributed rebuild (balance + ghosts + local grid + neighbor lists) of a
-// workload of BENCHMARKS.md at the number of ranks mpirun started, one line of JSON from rank 0.
+// workload of bench/README.md at the number of ranks mpirun started, one line of JSON from rank 0.
 // Run it through bench/mpi_scaling.sh, which compares 1, 2 and 4 ranks.
 //
 // Every rank draws the whole workload (float, seed 42; W8 in its periodic box) and starts with
 // a contiguous slice of ids; a first balance + build (not timed) puts the particles on their
 // sub-domains. Then each round is the rebuild of one time step: the particles alternate between
-// their positions and the "update" motion of BENCHMARKS.md (uniform(-0.05, 0.05) per
+// their positions and the "update" motion of bench/README.md (uniform(-0.05, 0.05) per
 // coordinate), and the timed part is balance (cuts kept unless the imbalance passes 10%) +
 // build + neighbor_lists on every rank, after a barrier; a round's time is the slowest rank's
 // sum of its phases. Medians over the rounds after a warm-up round. At 1 rank the plain
@@ -115,6 +115,7 @@ int run(int argc, char** argv) {
 
     // The single-process grid on the same particles, at one rank only.
     std::vector<double> serial;
+    double serial_pairs = -1;  // -1: not run (more than one rank)
     if (size == 1) {
         for (int round = 0; round <= rounds; ++round) {
             frnn::detail::stopwatch clock;
@@ -125,6 +126,7 @@ int run(int argc, char** argv) {
             o.order = frnn::row_order::index;
             const frnn::csr<T> lists = g.neighbor_lists(o);
             if (round > 0) serial.push_back(clock.lap_ms());
+            serial_pairs = double(lists.size());
         }
     }
     if (rank != 0) return 0;
@@ -138,12 +140,12 @@ int run(int argc, char** argv) {
                 "\"exchange_ms\": %.3f, \"local_ms\": %.3f, \"decompose_ms\": %.3f, \"migrate_ms\": %.3f, "
                 "\"halo_ms\": %.3f, \"grid_ms\": %.3f, \"lists_ms\": %.3f, \"bytes_per_particle\": %.3f, "
                 "\"halo_bytes_per_particle\": %.3f, \"first_build_bytes_per_particle\": %.3f, "
-                "\"ghost_fraction\": %.5f, \"pairs\": %.0f, \"serial_ms\": %.3f}\n",
+                "\"ghost_fraction\": %.5f, \"pairs\": %.0f, \"serial_ms\": %.3f, \"serial_pairs\": %.0f}\n",
                 w.id.c_str(), total, size, rounds, med(&round_figures::step_ms), med(&round_figures::exchange_ms),
                 med(&round_figures::local_ms), med(&round_figures::decompose_ms), med(&round_figures::migrate_ms),
                 med(&round_figures::halo_ms), med(&round_figures::grid_ms), med(&round_figures::lists_ms),
                 med(&round_figures::bytes) / N, med(&round_figures::halo_bytes) / N, first_bytes / N,
-                med(&round_figures::ghosts) / N, all.empty() ? 0.0 : all.back().pairs, median(serial));
+                med(&round_figures::ghosts) / N, all.empty() ? 0.0 : all.back().pairs, median(serial), serial_pairs);
     return 0;
 }
 

@@ -2,9 +2,11 @@
 // P = 1..4 (rank_counts()) on every oracle set and through every reading path (.npy slices in C
 // and Fortran order, text files read in parts, binary .ply in slices, ascii .ply read on rank 0
 // and scattered); the --json summary adds up; bad input
-// stops every rank with one clear message and no file; a killed rank ends the job within seconds.
+// stops every rank with one clear message and no file; a killed rank ends the job instead of
+// leaving the others waiting.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
@@ -125,7 +127,9 @@ TEST(MpiCli, JsonSummaryAddsUp) {
     const scratch_dir dir("mpi_cli_json");
     const tool_result serial = run_tool(dir, "query --generate lattice:12 -r 2 --json");
     ASSERT_EQ(serial.code, 0) << serial.err;
+    const auto start = std::chrono::steady_clock::now();
     const command_result r = run_mpi(dir, 3, "query --generate lattice:12 -r 2 --json -o pairs.npy");
+    const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     ASSERT_EQ(r.code, 0) << r.err;
     // One document, from rank 0 only.
     const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -134,7 +138,14 @@ TEST(MpiCli, JsonSummaryAddsUp) {
     EXPECT_EQ(j["pairs"], nlohmann::json::parse(serial.out)["pairs"]);
     EXPECT_EQ(j["output"], "pairs.npy");
     ASSERT_EQ(j["per_rank"].size(), 3u);
+    // A time, checked to be a number (a NaN or an infinity would print as null).
+    auto ms = [](const nlohmann::json& times, const char* name) {
+        const bool number = times.contains(name) && times[name].is_number();
+        EXPECT_TRUE(number) << name << ": " << times.dump();
+        return number ? times[name].get<double>() : 0.0;
+    };
     std::uint64_t particles = 0, pairs = 0;
+    std::vector<double> rank_ms;
     for (int k = 0; k < 3; ++k) {
         const nlohmann::json& rank = j["per_rank"][std::size_t(k)];
         EXPECT_EQ(rank["rank"], k);
@@ -142,11 +153,19 @@ TEST(MpiCli, JsonSummaryAddsUp) {
         pairs += rank["pairs"].get<std::uint64_t>();
         EXPECT_GT(rank["ghosts"].get<std::uint64_t>(), 0u);
         EXPECT_GT(rank["bytes_sent"]["halo"].get<std::uint64_t>(), 0u);
-        for (const char* phase : {"decompose", "migrate", "halo"}) EXPECT_GE(rank["exchange_ms"][phase].get<double>(), 0.0);
-        for (const char* phase : {"grid", "lists"}) EXPECT_GE(rank["local_ms"][phase].get<double>(), 0.0);
+        // The rank's search: its phases, added in the tool's order.
+        const nlohmann::json &exchange = rank.at("exchange_ms"), &local = rank.at("local_ms");
+        rank_ms.push_back(ms(exchange, "decompose") + ms(exchange, "migrate") + ms(exchange, "halo") +
+                          ms(local, "grid") + ms(local, "lists"));
     }
     EXPECT_EQ(particles, 1728u);
     EXPECT_EQ(pairs, j["pairs"].get<std::uint64_t>());
+    // The summary's search time is the slowest rank's. Rank 0's read, search and write are laps
+    // of one clock within its process: together no longer than mpirun's run as this test timed
+    // it, however loaded the machine.
+    const nlohmann::json& times = j.at("time_ms");
+    EXPECT_DOUBLE_EQ(ms(times, "search"), *std::max_element(rank_ms.begin(), rank_ms.end())) << r.out;
+    EXPECT_LE(ms(times, "read") + rank_ms[0] + ms(times, "write"), run_ms) << r.out;
 }
 
 /// A run that must fail with exit code `code` and `message` printed once.
@@ -200,22 +219,21 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
     EXPECT_EQ(listing(dir), before) << "a failed run left files";
 }
 
-TEST(MpiCli, AKilledRankEndsTheJobWithinSeconds) {
+TEST(MpiCli, AKilledRankEndsTheJob) {
     // Rank k dies (SIGKILL) between the migration and the ghost exchange; the others wait for
     // it in a collective call until mpirun ends them. Rank 0 too: it would have written the file.
+    // The only time limit is `timeout`'s: a job left waiting for the dead rank is ended by it
+    // (exit 124), one ended by mpirun says which rank died.
     for (int killed : {1, 0}) {
         SCOPED_TRACE("rank " + std::to_string(killed) + " killed");
         const scratch_dir dir("mpi_cli_killed");
-        const auto start = std::chrono::steady_clock::now();
         const command_result r = run_command(dir, "FRNN_TEST_KILL_RANK=" + std::to_string(killed) +
                                                       " FRNN_NUM_THREADS=1 timeout 60 " + mpirun + " -np 3 " + tool +
                                                       " query --generate uniform:20000 -r 1 -o out.npy");
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         EXPECT_NE(r.code, 0);
-        EXPECT_NE(r.code, 124) << "mpirun still ran after 60 s";
+        EXPECT_NE(r.code, 124) << "mpirun still ran after 60 s: the other ranks were left waiting";
         EXPECT_NE(r.err.find("rank " + std::to_string(killed) + " with PID"), std::string::npos) << r.err;
         EXPECT_NE(r.err.find("exited on signal 9"), std::string::npos) << r.err;
-        EXPECT_LT(seconds, 15.0);
         EXPECT_TRUE(listing(dir).empty()) << "no output file, no temporary";
     }
 }
