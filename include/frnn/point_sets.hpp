@@ -47,7 +47,11 @@ public:
         return active_[i][j];
     }
     std::size_t size() const { return sets_.size(); }
-    std::size_t points(std::size_t id) const { return sets_[id].coords.size() / D; }
+    /// The number of points of set `id`.
+    std::size_t points(std::size_t id) const {
+        check(id);
+        return sets_[id].coords.size() / D;
+    }
 
     /// Rebuilds the grids of the sets that are searched, then every active pair's lists.
     void find_neighbors(const list_options& options = {}) {

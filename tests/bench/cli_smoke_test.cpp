@@ -1,6 +1,7 @@
 // Smoke runs of `frnn bench` at tiny N with --baselines: the CSV has the documented header and
 // well-formed rows, every method and thread count found the same number of pairs (which also
-// equals the brute-force oracle's), and the Markdown and plot files appear. No timing is checked.
+// equals the brute-force oracle's), and the Markdown and plot files appear; --precision, --kind,
+// --cell and --space each change what they must and keep the oracle's pairs. No timing is checked.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -201,6 +202,100 @@ TEST(BenchCli, MarkdownNamesTheLatticeSide) {
     EXPECT_NE(slurp(md).find("--side 6"), std::string::npos);  // the recorded command line
 }
 
+namespace {
+
+// One W2 run of 2,000 points on 1 thread with `options`, and what an option must show in it:
+// the Markdown's settings line, the pair counts of every searching row, and frnn's structure
+// bytes per particle from the memory table.
+struct option_run {
+    std::string settings;
+    std::set<std::uint64_t> pairs;
+    double frnn_bytes = -1;
+};
+
+option_run run_with(const std::string& options, const std::string& tag) {
+    const scratch_dir dir("bench_option_" + tag);
+    const std::string csv = (dir / "w2.csv").string(), md = (dir / "w2.md").string();
+    option_run out;
+    EXPECT_EQ(run("bench --workload W2 --n 2000 --threads 1 --repeat 1 " + options + " --csv '" + csv +
+                  "' --markdown '" + md + "' > /dev/null 2>&1"),
+              0)
+        << options;
+    std::istringstream in(slurp(csv));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        const auto f = split(line, ',');
+        EXPECT_EQ(f.size(), 10u) << options << ": " << line;
+        if (f.size() == 10 && !f[7].empty()) out.pairs.insert(std::stoull(f[7]));
+    }
+    std::istringstream text(slurp(md));
+    bool memory = false;
+    while (std::getline(text, line)) {
+        if (line.rfind("- settings: ", 0) == 0) out.settings = line.substr(12);
+        if (line.find("| structure bytes/particle |") != std::string::npos) memory = true;
+        if (memory && line.rfind("| frnn | 1 | ", 0) == 0) {
+            out.frnn_bytes = std::stod(line.substr(13));
+            memory = false;
+        }
+    }
+    EXPECT_GT(out.frnn_bytes, 0.0) << options << ": no memory row for frnn";
+    return out;
+}
+
+// Every searching row of `r` found the brute-force pairs of W2's 2,000 points in `precision`.
+void expect_oracle_pairs(const option_run& r, bool double_precision, const std::string& what) {
+    ASSERT_EQ(r.pairs.size(), 1u) << what << ": phases disagree on the pair count";
+    const auto& w2 = fb::find_workload("W2");
+    const std::uint64_t want = double_precision
+                                   ? fb::brute_neighbor_lists<double, 3>(fb::generate<double>(w2, 2000), 2.0).size()
+                                   : oracle_pairs("W2", 2000);
+    EXPECT_EQ(*r.pairs.begin(), want) << what;
+}
+
+}  // namespace
+
+// --precision double: the points are searched as doubles (the brute-force pairs of the double
+// points; the grid's copy of the points takes 3 x 4 bytes more per point).
+TEST(BenchCli, PrecisionDoubleSearchesDoubleCoordinates) {
+    const option_run f = run_with("--kind uniform", "float"), d = run_with("--kind uniform --precision double", "double");
+    EXPECT_EQ(f.settings.rfind("float coordinates", 0), 0u) << f.settings;
+    EXPECT_EQ(d.settings.rfind("double coordinates", 0), 0u) << d.settings;
+    expect_oracle_pairs(f, false, "float");
+    expect_oracle_pairs(d, true, "double");
+    EXPECT_GE(d.frnn_bytes, f.frnn_bytes + 11.9);
+}
+
+// --kind hash: the hashed grid (a table sized from N, not one slot per cell: other memory)
+// finds the pairs of the uniform grid.
+TEST(BenchCli, KindHashFindsTheUniformGridsPairs) {
+    const option_run u = run_with("--kind uniform", "uniform"), h = run_with("--kind hash", "hash");
+    EXPECT_NE(u.settings.find("grid kind uniform;"), std::string::npos) << u.settings;
+    EXPECT_NE(h.settings.find("grid kind hash;"), std::string::npos) << h.settings;
+    expect_oracle_pairs(u, false, "uniform");
+    expect_oracle_pairs(h, false, "hash");
+    EXPECT_NE(h.frnn_bytes, u.frnn_bytes);
+}
+
+// --cell 0.5: cells of r/2, eight times as many slots in the uniform grid, the same pairs.
+TEST(BenchCli, HalfCellsFindTheSamePairs) {
+    const option_run whole = run_with("--kind uniform", "cell_r"), half = run_with("--kind uniform --cell 0.5", "cell_half");
+    EXPECT_NE(whole.settings.find("cell size default;"), std::string::npos) << whole.settings;
+    EXPECT_NE(half.settings.find("cell size 0.5"), std::string::npos) << half.settings;
+    expect_oracle_pairs(whole, false, "cells of r");
+    expect_oracle_pairs(half, false, "cells of r/2");
+    EXPECT_GT(half.frnn_bytes, whole.frnn_bytes);
+}
+
+// --space sorted: lists in the grid's numbering hold the same pairs.
+TEST(BenchCli, SortedSpaceListsTheSamePairs) {
+    const option_run original = run_with("", "space_original"), sorted = run_with("--space sorted", "space_sorted");
+    EXPECT_NE(original.settings.find("frnn lists in the caller's order"), std::string::npos) << original.settings;
+    EXPECT_NE(sorted.settings.find("frnn lists in sorted (cell) order"), std::string::npos) << sorted.settings;
+    expect_oracle_pairs(original, false, "original");
+    expect_oracle_pairs(sorted, false, "sorted");
+}
+
 TEST(BenchCli, PlotIsAPngOrSaysWhyNot) {
     const scratch_dir dir("bench_plot");
     const std::string png = (dir / "smoke.png").string(), log = (dir / "plot.log").string();
@@ -237,6 +332,10 @@ TEST(BenchCli, BadArgumentsFailCleanly) {
     fails("--workload W2 --side 10", 1, "--side needs a lattice workload");
     fails("--workload W1 --side 0", 1, "workload W1: lattice side 0 gives no points");
     fails("--workload W1 --side 2000", 1, "more than 2^32 - 2");
+    fails("--workload W1 --n 4 --cell 2", 1, "--cell must lie in [0.25, 1]");
+    fails("--workload W1 --n 4 --precision half", 2, "--precision");
+    fails("--workload W1 --n 4 --kind octree", 2, "--kind");
+    fails("--workload W1 --n 4 --space cells", 2, "--space");
     // An unwritable output fails with a message and leaves no file behind.
     fails("--workload W1 --n 4 --repeat 1 --csv /nonexistent-dir/x.csv", 1, "/nonexistent-dir/x.csv");
 }

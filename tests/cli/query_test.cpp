@@ -1,6 +1,10 @@
 // `frnn query` end to end: its output files against the brute-force oracle, for every input
 // format, output format and option.
+#include <chrono>
 #include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <string>
 
 #include "cli/run_tool.hpp"
 #include "frnn/bench/workloads.hpp"
@@ -222,7 +226,9 @@ TEST(cli_query, json_summary_parses_and_agrees) {
     const auto dir = fresh_dir();
     const auto xyz = random_points<double, 3>(300, 5.0, 15);
     write_points<double, 3>(dir / "p.npy", xyz);
+    const auto start = std::chrono::steady_clock::now();
     const tool_result r = run_tool(dir, "query p.npy -r 1 --json --grid hash");
+    const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     ASSERT_EQ(r.code, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);  // throws (fails the test) when not one JSON object
     const csr<double> full = brute_force_lists<double, 3>(xyz, xyz, 1.0, true);
@@ -237,7 +243,17 @@ TEST(cli_query, json_summary_parses_and_agrees) {
     EXPECT_EQ(j["grid"], "hash");
     EXPECT_GE(j["slots"].get<std::size_t>(), j["occupied_slots"].get<std::size_t>());
     EXPECT_GT(j["occupied_slots"].get<std::size_t>(), 0u);
-    for (const char* stage : {"read", "build", "query", "write"}) EXPECT_GE(j["time_ms"][stage].get<double>(), 0.0);
+    // The stage times are numbers (a NaN or an infinity would print as null) and laps of one clock
+    // within the tool's run: together no longer than the run as this test timed it, however
+    // loaded the machine (milliseconds, not microseconds).
+    const auto& times = j.at("time_ms");
+    EXPECT_EQ(times.size(), 4u) << times.dump();
+    double stages_ms = 0;
+    for (const char* stage : {"read", "build", "query", "write"}) {
+        ASSERT_TRUE(times.contains(stage) && times[stage].is_number()) << stage << ": " << times.dump();
+        stages_ms += times[stage].get<double>();
+    }
+    EXPECT_LE(stages_ms, run_ms) << times.dump();
 }
 
 // `--generate` draws the points of `frnn bench`'s workloads (W1 is lattice:N, W4 lattice:N
@@ -291,7 +307,10 @@ TEST(cli_query, vulkan_backend_writes_the_cpu_files) {
         ASSERT_EQ(r.code, 0) << r.err;
     }
     const tool_result gpu = run_tool(dir, "query p.npy -r 1 --backend vulkan -o gpu.npy");
-    if (gpu.code != 0 && gpu.err.find("Vulkan") != std::string::npos) GTEST_SKIP() << "no Vulkan device: " << gpu.err;
+    // Without a device the backend says so and the test skips, except under FRNN_STRICT=1 (CI).
+    const char* strict = std::getenv("FRNN_STRICT");
+    if (gpu.code != 0 && gpu.err.find("no Vulkan") != std::string::npos && !(strict && std::string(strict) == "1"))
+        GTEST_SKIP() << "no Vulkan device: " << gpu.err;
     ASSERT_EQ(gpu.code, 0) << gpu.err;
     ASSERT_EQ(run_tool(dir, "query p.npy -r 1 --backend vulkan -o gpu.csv").code, 0);
     EXPECT_EQ(read_bytes(dir / "gpu.npy"), read_bytes(dir / "cpu.npy"));

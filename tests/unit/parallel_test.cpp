@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <optional>
@@ -53,15 +54,41 @@ TEST(ThreadPool, ManyCallsInARow) {
 }
 
 TEST(ThreadPool, TheFirstExceptionReachesTheCallerAndThePoolStaysUsable) {
-    std::atomic<int> ran{0};
-    EXPECT_THROW(frnn::parallel_chunks(100, 4,
+    // On one thread the chunks run in order and the throw ends the call: chunks 0 to 3 ran, once.
+    std::vector<int> ran(100, 0);
+    EXPECT_THROW(frnn::parallel_chunks(100, 1,
                                        [&](std::size_t c, int) {
-                                           ++ran;
+                                           ++ran[c];
                                            if (c == 3) throw std::runtime_error("chunk 3");
                                        }),
                  std::runtime_error);
-    EXPECT_GE(ran.load(), 4);
-    EXPECT_LE(ran.load(), 100);
+    std::vector<int> first_four(100, 0);
+    std::fill_n(first_four.begin(), 4, 1);
+    EXPECT_EQ(ran, first_four);
+
+    // On 4 threads which chunks run is not fixed: a thread may start a chunk before it sees the
+    // failure, or skip one it claimed before chunk 3 threw. What is fixed: chunk 3 ran once, no
+    // chunk twice, and none still runs when its exception reaches the caller.
+    std::vector<std::atomic<int>> started(100);
+    std::atomic<int> running{0};
+    struct leaving {
+        std::atomic<int>& running;
+        ~leaving() { --running; }
+    };
+    try {
+        frnn::parallel_chunks(100, 4, [&](std::size_t c, int) {
+            ++started[c];
+            ++running;
+            const leaving on_return_or_throw{running};
+            if (c == 3) throw std::runtime_error("chunk 3");
+        });
+        ADD_FAILURE() << "the exception did not reach the caller";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "chunk 3");
+        EXPECT_EQ(running.load(), 0) << "chunks still ran when the exception reached the caller";
+    }
+    EXPECT_EQ(started[3].load(), 1);
+    for (std::size_t c = 0; c < started.size(); ++c) EXPECT_LE(started[c].load(), 1) << "chunk " << c;
     check_every_chunk_once(100, 4);
 }
 

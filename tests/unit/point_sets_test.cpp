@@ -23,21 +23,76 @@ frnn::csr<float> sorted_rows(frnn::csr<float> c) {
     return c;
 }
 
+/// The lists of `got` (rows sorted) against brute force from `queries` into `data`: the same
+/// row lengths and the same neighbors.
+void expect_brute_force(const frnn::csr<float>& got, const std::vector<float>& queries, const std::vector<float>& data,
+                        bool same_set, const char* what) {
+    const auto want = frnn::brute_force_lists<float, 3>(queries, data, 0.7f, same_set);
+    const auto sorted = sorted_rows(got);
+    EXPECT_EQ(sorted.offsets, want.offsets) << what;
+    EXPECT_EQ(sorted.indices, want.indices) << what;
+    EXPECT_GT(want.indices.size(), 0u) << what << ": no pairs to compare";
+}
+
 TEST(point_sets, every_active_pair_matches_brute_force_and_inactive_pairs_are_empty) {
     const auto fluid = cloud(800, 6, 1), boundary = cloud(300, 6, 2);
     frnn::point_sets<float, 3> sets(0.7f);
     const auto f = sets.add(fluid), b = sets.add(boundary);
     sets.set_active(b, f, false);  // boundary particles need no fluid neighbors
     sets.find_neighbors();
-    EXPECT_EQ(sorted_rows(sets.neighbors(f, f)).indices,
-              (frnn::brute_force_lists<float, 3>(fluid, fluid, 0.7f, true).indices));
-    EXPECT_EQ(sorted_rows(sets.neighbors(f, b)).indices,
-              (frnn::brute_force_lists<float, 3>(fluid, boundary, 0.7f, false).indices));
-    EXPECT_EQ(sorted_rows(sets.neighbors(b, b)).offsets,
-              (frnn::brute_force_lists<float, 3>(boundary, boundary, 0.7f, true).offsets));
+    expect_brute_force(sets.neighbors(f, f), fluid, fluid, true, "fluid-fluid");
+    expect_brute_force(sets.neighbors(f, b), fluid, boundary, false, "fluid-boundary");
+    expect_brute_force(sets.neighbors(b, b), boundary, boundary, true, "boundary-boundary");
     EXPECT_EQ(sets.neighbors(b, f).size(), 0u);
     EXPECT_EQ(sets.neighbors(b, f).rows(), boundary.size() / 3);
     EXPECT_THROW(sets.neighbors(0, 5), frnn::error);
+}
+
+// The activation table: every pair active by default, set_active switches one direction only,
+// a set added later keeps the table and is active both ways; an unknown set throws.
+TEST(point_sets, is_active_reflects_set_active) {
+    frnn::point_sets<float, 3> sets(0.7f);
+    const auto a = sets.add(cloud(10, 2, 3)), b = sets.add(cloud(20, 2, 4));
+    for (std::size_t i : {a, b})
+        for (std::size_t j : {a, b}) EXPECT_TRUE(sets.is_active(i, j)) << i << " " << j;
+    sets.set_active(b, a, false);
+    EXPECT_FALSE(sets.is_active(b, a));
+    EXPECT_TRUE(sets.is_active(a, b));
+    EXPECT_TRUE(sets.is_active(b, b));
+    const auto c = sets.add(cloud(5, 2, 5));
+    EXPECT_FALSE(sets.is_active(b, a)) << "adding a set reset the table";
+    for (std::size_t k : {a, b, c}) {
+        EXPECT_TRUE(sets.is_active(c, k));
+        EXPECT_TRUE(sets.is_active(k, c));
+    }
+    sets.set_active(b, a, true);
+    EXPECT_TRUE(sets.is_active(b, a));
+    EXPECT_THROW((void)sets.is_active(a, 3), frnn::error);
+    EXPECT_THROW(sets.set_active(3, a, false), frnn::error);
+}
+
+// update() replaces a set's points (here fewer, elsewhere): points() counts the new set and the
+// next find_neighbors() matches brute force on the new coordinates in every direction.
+TEST(point_sets, update_moves_a_set_and_the_next_search_follows) {
+    const auto fluid = cloud(800, 6, 6), boundary = cloud(300, 6, 7);
+    frnn::point_sets<float, 3> sets(0.7f);
+    const auto f = sets.add(fluid), b = sets.add(boundary);
+    EXPECT_EQ(sets.size(), 2u);
+    EXPECT_EQ(sets.points(f), 800u);
+    EXPECT_EQ(sets.points(b), 300u);
+    sets.find_neighbors();
+    const auto moved = cloud(500, 5, 8);
+    sets.update(f, moved);
+    EXPECT_EQ(sets.points(f), 500u);
+    EXPECT_EQ(sets.points(b), 300u);
+    sets.find_neighbors();
+    ASSERT_EQ(sets.neighbors(f, f).rows(), 500u);
+    expect_brute_force(sets.neighbors(f, f), moved, moved, true, "moved-moved");
+    expect_brute_force(sets.neighbors(f, b), moved, boundary, false, "moved-boundary");
+    expect_brute_force(sets.neighbors(b, f), boundary, moved, false, "boundary-moved");
+    expect_brute_force(sets.neighbors(b, b), boundary, boundary, true, "boundary-boundary");
+    EXPECT_THROW(sets.update(2, moved), frnn::error);
+    EXPECT_THROW((void)sets.points(2), frnn::error);
 }
 
 TEST(verlet_lists, stay_exact_while_points_move_and_rebuild_only_when_needed) {
