@@ -55,7 +55,8 @@ const register_command reg{"validate", [](CLI::App& app) {
     for (const auto& n : sim::validation_cases()) names += (names.empty() ? "" : "|") + n;
     c->add_option("cases", args->cases, "Cases to run (default: all): " + names)
         ->check(CLI::IsMember(sim::validation_cases()));
-    c->add_flag("--quick", args->quick, "Coarsest resolution only, with its own tolerances (about a minute)");
+    c->add_flag("--quick", args->quick,
+                "Coarsest resolution only, with its own tolerances (seconds, where the full run takes minutes)");
     c->add_option("--out", args->out, "Output folder: report.md, errors.json, plots, one folder per run")
         ->capture_default_str();
     c->add_option("--tolerances", args->tolerances,
