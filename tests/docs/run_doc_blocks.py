@@ -18,14 +18,15 @@ All blocks of one file run in one fresh scratch folder, as a user in one termina
 the project's top-level entries linked into it (so `build/release/apps/frnn/frnn` and
 `sim/scenes/...` work as written) and the files they write landing in it; the folder is removed
 afterwards, also on failure. `frnn`, `frnn-view` and `frnn_mpi_bench` are on PATH (as after
-`cmake --install`), before a fresh Debian's PATH, `import frnn` finds the build's module, and OpenMPI may run as root and
-start more ranks than cores (its environment variables; docs/TROUBLESHOOTING.md).
+`cmake --install`), before a fresh Debian's PATH; `import frnn` finds the build's module; and
+OpenMPI may run as root and start more ranks than cores (its environment variables,
+docs/TROUBLESHOOTING.md).
 
 Links: a relative link must name an existing file and, with #anchor, one of its headings.
 Figures: every Markdown table with numeric cells needs a line `Measured: COMMIT, DATE, MACHINE,
 N cores` in its section or a section above it, unless the line before it says
-`<!-- not figures: REASON -->` (a table of definitions or settings, not of measurements); no file may send the reader to a guide of figures
-outside the repository (OUTSIDE_GUIDE).
+`<!-- not figures: REASON -->` (a table of definitions or settings, not of measurements). No
+file may send the reader to a guide of figures outside the repository (OUTSIDE_GUIDE).
 """
 import argparse
 import os
@@ -228,7 +229,7 @@ def tree_references(source: Path) -> list[str]:
     return problems
 
 
-def environment(source: Path, build: Path) -> dict:
+def environment(build: Path) -> dict:
     env = dict(os.environ)
     # A fresh Debian 12's PATH after the install (a pyenv or conda python3 first on the
     # machine's PATH is not the README's set-up: docs/TROUBLESHOOTING.md covers it).
@@ -259,7 +260,7 @@ def run_file(path: Path, source: Path, build: Path) -> int:
         print(p, file=sys.stderr)
     if problems:
         return 1
-    env = environment(source, build)
+    env = environment(build)
     failures = 0
     with tempfile.TemporaryDirectory(prefix="frnn-docs-") as scratch:
         lay_out_scratch(Path(scratch), source, build)
