@@ -10,7 +10,7 @@ install(TARGETS frnn EXPORT frnnTargets
 # The Vulkan backend installs its own (vulkan.hpp, grid.glsl) with its component, and so does
 # the MPI layer (mpi/).
 set(frnn_public_headers
-  brute_force.hpp buffer.hpp csr.hpp error.hpp frnn.hpp grid.hpp grid_geometry.hpp options.hpp
+  brute_force.hpp buffer.hpp csr.hpp error.hpp frnn.hpp grid.hpp grid_geometry.hpp lattice.hpp options.hpp
   parallel.hpp periodic_wrap.hpp point_sets.hpp search_scale.hpp simd.hpp verlet_lists.hpp
   detail/candidate_runs.hpp detail/grid_storage.hpp detail/stopwatch.hpp)
 set(frnn_vulkan_headers vulkan.hpp grid.glsl)

@@ -6,6 +6,7 @@
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
 #include "frnn/grid_geometry.hpp"
+#include "frnn/lattice.hpp"
 #include "frnn/options.hpp"
 #include "frnn/parallel.hpp"
 #include "frnn/point_sets.hpp"
