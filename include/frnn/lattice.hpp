@@ -51,7 +51,7 @@ struct lattice_list_options {
     /// Each pair of atoms once per image: (i, j, S) with j > i, or j == i and the first
     /// non-zero component of S positive; (j, i, -S) is left out.
     bool half = false;
-    bool self = false;       ///< also (i, i, 0) at distance 0, first in its row
+    bool self = false;       ///< also (i, i, 0) at distance 0, first in its row (when 0 is within i's limit)
     bool distances = false;  ///< fill lattice_csr::distances with d
     bool vectors = false;    ///< fill lattice_csr::vectors with D
     /// Inside each row: none (the search's order: deterministic, cheapest), index (by j,

@@ -10,5 +10,6 @@ Two points are neighbors when their distance is <= radius (the real radius). See
 help(frnn.Grid) and docs/PYTHON.md.
 """
 from ._frnn import Error, Grid, __version__, query_pairs
+from ._neighbor_list import neighbor_list
 
-__all__ = ["Error", "Grid", "query_pairs", "__version__"]
+__all__ = ["Error", "Grid", "neighbor_list", "query_pairs", "__version__"]

@@ -1,5 +1,5 @@
 """Type stubs of frnn: fast fixed-radius neighbor search (the compiled module frnn._frnn)."""
-from typing import Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -130,3 +130,14 @@ def query_pairs(
     rule: Literal["gather", "symmetric"] = "symmetric",
 ) -> npt.NDArray[np.int64]:
     """All pairs i < j within radius: Grid(points, radius, **kw).query_pairs()."""
+
+def neighbor_list(
+    quantities: str,
+    a: Any,
+    cutoff: Union[float, npt.ArrayLike, Dict[Tuple[Union[int, str], Union[int, str]], float]],
+    self_interaction: bool = False,
+    *,
+    threads: Optional[int] = None,
+) -> Union[npt.NDArray[Any], Tuple[npt.NDArray[Any], ...]]:
+    """ASE's neighbor_list on frnn's search: a is an ase.Atoms or (positions, cell, pbc[,
+    numbers]); one array per letter of quantities ("ijdDS"), rows sorted by i, d < cutoff."""

@@ -7,6 +7,7 @@
 
 #include "frnn/error.hpp"
 #include "grid_object.hpp"
+#include "lattice_list.hpp"
 
 namespace py = pybind11;
 using frnn::python::grid_args;
@@ -195,6 +196,7 @@ PYBIND11_MODULE(_frnn, m) {
     m.doc() = "frnn: fast fixed-radius neighbor search (compiled module)";
     m.attr("__version__") = FRNN_VERSION;
     py::register_exception<frnn::error>(m, "Error", PyExc_ValueError);
+    frnn::python::add_lattice_pairs(m);
 
     py::class_<grid_object>(m, "Grid", grid_doc)
         .def(py::init([](const py::object& points, const py::object& radius, std::string grid,

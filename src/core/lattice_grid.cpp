@@ -389,7 +389,9 @@ lattice_csr<T, D> lattice_grid<T, D>::neighbor_lists(const lattice_list_options&
         auto& out = kept[part];
         for (std::size_t i = b; i < e; ++i) {
             const std::size_t first = out.size();
-            if (options.self) out.push_back({std::uint32_t(i), {}, {}, T(0)});
+            const T own_limit = radii_.empty() ? cutoff_ : radii_[i] + radii_[i];
+            const bool self = options.self && (options_.strict ? T(0) < own_limit : T(0) <= own_limit);
+            if (self) out.push_back({std::uint32_t(i), {}, {}, T(0)});
             for (std::uint32_t g : candidates.row(i)) {
                 entry<T, D> x;
                 std::array<std::int32_t, D> image{};
@@ -414,7 +416,7 @@ lattice_csr<T, D> lattice_grid<T, D>::neighbor_lists(const lattice_list_options&
                 if (options_.strict ? !(x.distance < limit) : !(x.distance <= limit)) continue;
                 out.push_back(x);
             }
-            auto row = out.begin() + std::ptrdiff_t(first) + (options.self ? 1 : 0);
+            auto row = out.begin() + std::ptrdiff_t(first) + (self ? 1 : 0);
             if (options.order == row_order::index) {
                 std::sort(row, out.end(), shift_less<T, D>);
             } else if (options.order == row_order::distance) {
