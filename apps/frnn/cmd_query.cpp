@@ -277,8 +277,18 @@ void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& qu
 
 void run_query(query_args a) {
     parse_radius(a);
-    if (launched_by_mpirun()) return run_query_mpi(a);
+    check_lattice_usage(a);
+    if (launched_by_mpirun()) {
+        if (!a.cell.empty()) throw error("--cell: the query in a lattice cell runs in one process, not under mpirun");
+        return run_query_mpi(a);
+    }
     check_usage(a);
+    if (!a.cell.empty()) {
+        stopwatch read_clock;
+        const io::point_set atoms =
+            a.input.empty() ? generate_points(a.generate, a.dim, a.seed) : io::read_points(a.input, a.threads);
+        return run_lattice_query(a, atoms, read_clock.lap_ms());
+    }
     std::vector<double> radii;
     if (!a.radius_file.empty()) {
         radii = io::read_npy_values(a.radius_file);
@@ -384,6 +394,11 @@ const register_command query_command{"query", [](CLI::App& app) {
         ->check(positive_number);
     cmd->add_option("--periodic", args->periodic,
                     "Periodic box [0,LX)x[0,LY)[x[0,LZ)]: LX,LY[,LZ]; a length of 0 leaves that axis open (10,0,10)");
+    cmd->add_option("--cell", args->cell,
+                    "A periodic cell of any shape, for atoms: the lattice vectors as rows, ax,ay,az,bx,by,bz,cx,cy,cz "
+                    "(ax,ay,bx,by in 2D); triclinic and smaller than the radius are fine. Pairs come once per "
+                    "periodic image, with their shift S (output .npy rows i,j,S or .csv i,j,S...,distance)");
+    cmd->add_option("--pbc", args->pbc, "With --cell: periodic along each lattice vector, e.g. 1,1,0 (default: all)");
     cmd->add_option("--knn", args->knn, "Keep at most K nearest neighbors within the radius per point")
         ->check(positive_number);
     cmd->add_flag("--self", args->self, "Include each point as its own neighbor (pair (i,i), distance 0)");

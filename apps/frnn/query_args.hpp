@@ -15,6 +15,8 @@ namespace frnn::app {
 
 struct query_args {
     std::string input, output, queries, generate, grid = "auto", periodic;
+    /// --cell (lattice vectors as rows, comma-separated) and --pbc (a flag per vector).
+    std::string cell, pbc;
     /// --radius as given: a number (radius), or a .npy of one radius per point (radius_file).
     std::string radius_text, radius_file, rule = "gather";
     double radius = 0, cell_size = 0;
@@ -48,5 +50,9 @@ void parse_radius(query_args& a);
 void check_usage(const query_args& a);
 /// One box length per dimension, each at least 2 * radius: CLI::ValidationError otherwise.
 void check_periodic(const std::vector<double>& periodic, int dimension, double radius);
+/// Options that do not go with --cell, --pbc without --cell: CLI::ValidationError.
+void check_lattice_usage(const query_args& a);
+/// The query in a periodic cell of any shape (query_lattice.cpp): pairs with their shifts.
+void run_lattice_query(const query_args& a, const io::point_set& data, double read_ms);
 
 }  // namespace frnn::app
