@@ -102,6 +102,7 @@ private:
     lattice<D> cell_;
     lattice_options options_;
     T cutoff_ = 0;                          // one cutoff; unused with radii
+    double rounding_ = 0;                   // bound on rounding's change of a distance
     std::vector<T> radii_;                  // radius per atom, or empty
     std::vector<T> coords_;                 // the caller's coordinates
     std::vector<std::int32_t> wrap_;        // D per atom: the cells it lies out (its frac floor)
