@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "command.hpp"
+#include "launcher.hpp"
 
 namespace frnn::app {
 std::vector<command>& commands() {
@@ -20,6 +22,17 @@ int main(int argc, char** argv) {
     auto& cmds = frnn::app::commands();
     std::sort(cmds.begin(), cmds.end(), [](auto& a, auto& b) { return a.name < b.name; });
     for (auto& c : cmds) c.setup(app);
+    // Only `frnn query` runs across ranks: any other command under a launcher of several ranks
+    // would run one independent copy per rank (the same outputs written over each other).
+    const std::string command = argc > 1 ? argv[1] : "";
+    if (command != "query" && command.rfind("-", 0) != 0 && frnn::app::launcher_ranks() > 1) {
+        if (frnn::app::launcher_rank() == 0)
+            std::fprintf(stderr,
+                         "frnn: %s runs in one process, but an MPI launcher started %ld ranks (each would run its own "
+                         "copy): run it without mpirun; only `frnn query` runs across ranks\n",
+                         command.c_str(), frnn::app::launcher_ranks());
+        return 1;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -219,6 +219,22 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
     EXPECT_EQ(listing(dir), before) << "a failed run left files";
 }
 
+// Every command but query runs in one process: under mpirun with several ranks it refuses
+// with one message and writes nothing, instead of running one copy per rank.
+TEST(MpiCli, SingleProcessCommandsRefuseSeveralRanks) {
+    const scratch_dir dir("mpi_cli_single");
+    const std::vector<std::string> before = listing(dir);
+    expect_failure(run_mpi(dir, 2, "sim --particles 300 --steps 2 --out run"), 1,
+                   "frnn: sim runs in one process, but an MPI launcher started 2 ranks");
+    expect_failure(run_mpi(dir, 3, "validate --quick"), 1, "frnn: validate runs in one process, but an MPI launcher started 3");
+    expect_failure(run_mpi(dir, 2, "bench --workload W1 --n 1000"), 1, "frnn: bench runs in one process");
+    EXPECT_EQ(listing(dir), before) << "a refused run left files";
+    // One rank is one process: it runs.
+    const auto one = run_mpi(dir, 1, "sim --particles 300 --steps 2 --quiet --out run");
+    EXPECT_EQ(one.code, 0) << one.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "run" / "summary.json"));
+}
+
 TEST(MpiCli, AKilledRankEndsTheJob) {
     // Rank k dies (SIGKILL) between the migration and the ghost exchange; the others wait for
     // it in a collective call until mpirun ends them. Rank 0 too: it would have written the file.
