@@ -10,6 +10,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #include "cpu/parallel.hpp"
 #include "frnn/error.hpp"
@@ -234,24 +235,36 @@ void check_image_count(double images, double per_atom, std::size_t atoms, std::s
 /// A bound, 16 times too large, on how far rounding moves a distance: of the wrapped copies
 /// (double) from the true one, and of the formula's (T) from the true one.
 template <class T>
-double rounding_bound(double limit, double largest, double cell_span) {
-    const double scale = 4 * largest + 2 * cell_span + limit;
+double rounding_bound(double limit, double largest, double image_span) {
+    const double scale = 4 * largest + 2 * image_span + limit;
     return 16 * double(std::numeric_limits<T>::epsilon()) * scale;
 }
 
 /// The search radius: the largest limit plus what rounding of the wrapped copies (double) and
 /// of the formula (T) can move a distance by, so that no pair within the limit is missed.
 template <class T>
-double search_reach(double limit, double largest, double cell_span) {
-    return limit + 4 * rounding_bound<T>(limit, largest, cell_span);
+double search_reach(double limit, double largest, double image_span) {
+    return limit + 4 * rounding_bound<T>(limit, largest, image_span);
 }
 
+/// A bound on |S . cell| over the shifts of the image copies (m: margins<D> of a first reach,
+/// whose copies reach at most ceil(m) + 1 cells out), so that the rounding bound holds for
+/// strongly sheared cells too, whose copies can lie many vectors' lengths away.
 template <int D>
-double cell_span(const lattice<D>& cell) {
+double image_span(const lattice<D>& cell, const std::array<double, D>& m) {
     double s = 0;
     for (int k = 0; k < D; ++k)
-        if (cell.pbc[k]) s += norm<D>(cell.vectors[k]);
+        if (cell.pbc[k]) s += (std::ceil(m[k]) + 2) * norm<D>(cell.vectors[k]);
     return s;
+}
+
+/// The search radius and the rounding bound for a limit (see rounding_bound).
+template <class T, int D>
+std::pair<double, double> reach_and_rounding(double limit, double largest, const cell_frame<D>& frame,
+                                             const lattice<D>& cell) {
+    const double first = limit + limit * 1e-6;  // the rounding bound is far below this
+    const double span = image_span<D>(cell, margins<D>(frame, first));
+    return {search_reach<T>(limit, largest, span), rounding_bound<T>(limit, largest, span)};
 }
 
 }  // namespace
@@ -288,7 +301,8 @@ std::size_t lattice_grid<T, D>::count_images(std::span<const T> coords, const la
     const cell_frame<D> f = make_frame(cell);
     const auto w = wrap_atoms<T, D>(coords, f, cell);
     double per_atom = 0;
-    const double total = image_total<T, D>(w, margins<D>(f, search_reach<T>(double(reach), w.largest, cell_span<D>(cell))), per_atom);
+    const double search = reach_and_rounding<T, D>(double(reach), w.largest, f, cell).first;
+    const double total = image_total<T, D>(w, margins<D>(f, search), per_atom);
     return std::size_t(std::min(total, double(std::numeric_limits<std::size_t>::max() / 2)));
 }
 
@@ -304,8 +318,7 @@ void lattice_grid<T, D>::build_with(std::span<const T> coords, const lattice<D>&
     auto w = wrap_atoms<T, D>(coords, f, cell);
     // A zero limit (all radii 0) still searches a tiny ball: no pair but exact duplicates.
     const double limit = std::max(double(max_limit), std::numeric_limits<double>::min());
-    const double reach = search_reach<T>(limit, w.largest, cell_span<D>(cell));
-    const double rounding = rounding_bound<T>(limit, w.largest, cell_span<D>(cell));
+    const auto [reach, rounding] = reach_and_rounding<T, D>(limit, w.largest, f, cell);
     const auto m = margins<D>(f, reach);
     double per_atom = 0;
     const double images = image_total<T, D>(w, m, per_atom);

@@ -237,7 +237,7 @@ void random_cells(std::uint32_t seed) {
     const T cutoff = T(1.5);
     int cases = 0;
     for (double ratio : {0.3, 0.7, 1.2, 2.5, 10.0})
-        for (double shear : {0.0, 0.3, 0.9})
+        for (double shear : {0.0, 0.3, 0.9, 4.0})
             for (int mask = 0; mask < (1 << D); ++mask) {
                 std::array<bool, D> pbc{};
                 for (int k = 0; k < D; ++k) pbc[k] = (mask >> k) & 1;
