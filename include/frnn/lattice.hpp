@@ -108,6 +108,7 @@ private:
     std::vector<std::int32_t> wrap_;        // D per atom: the cells it lies out (its frac floor)
     std::vector<std::uint32_t> image_atom_; // per image copy: its atom
     std::vector<std::int32_t> image_shift_; // per image copy, D values: its shift from the wrapped atom
+    std::vector<T> image_offset_;           // per image copy, D values: its shift times the cell, in T
     std::array<std::array<double, D>, D> shift_rows_{};  // the lattice vectors, 0 on open axes
     grid<double, D> search_;                 // atoms (wrapped) then image copies
 };

@@ -49,6 +49,14 @@ std::array<double, D> scaled(std::array<double, D> v, double s) {
     return v;
 }
 
+/// Component c of S . cell, as the formula takes it: sum_k S_k rows[k][c] in double, k in order.
+template <int D>
+double shift_vector(const matrix<D>& rows, const std::array<std::int32_t, D>& shift, int c) {
+    double v = 0;
+    for (int k = 0; k < D; ++k) v += double(shift[k]) * rows[k][c];
+    return v;
+}
+
 /// Relative size below which periodic vectors count as not spanning their space.
 constexpr double degenerate_tolerance = 1e-10;
 /// Atoms may lie at most this many cells out along a periodic vector (shifts stay in int32).
@@ -328,7 +336,12 @@ void lattice_grid<T, D>::build_with(std::span<const T> coords, const lattice<D>&
     std::vector<double> points(w.position);
     std::vector<std::uint32_t> image_atom;
     std::vector<std::int32_t> image_shift;
+    std::vector<T> image_offset;
+    matrix<D> rows{};  // the lattice vectors, 0 on open axes: S . cell with S = 0 there
+    for (int k = 0; k < D; ++k)
+        for (int c = 0; c < D; ++c) rows[k][c] = cell.pbc[k] ? cell.vectors[k][c] : 0.0;
     image_atom.reserve(std::size_t(images));
+    image_offset.reserve(std::size_t(images) * D);
     image_shift.reserve(std::size_t(images) * D);
     points.reserve(points.size() + std::size_t(images) * D);
     std::array<std::int64_t, D> lo, hi, s;
@@ -345,7 +358,9 @@ void lattice_grid<T, D>::build_with(std::span<const T> coords, const lattice<D>&
                     for (int k = 0; k < D; ++k) shift += double(s[k]) * f.basis[k][c] * double(f.pbc[k]);
                     points.push_back(w.position[i * D + c] + shift);
                 }
-                for (int k = 0; k < D; ++k) image_shift.push_back(std::int32_t(s[k]));
+                std::array<std::int32_t, D> shift;
+                for (int k = 0; k < D; ++k) shift[k] = std::int32_t(s[k]), image_shift.push_back(shift[k]);
+                for (int c = 0; c < D; ++c) image_offset.push_back(T(shift_vector<D>(rows, shift, c)));
             }
             int k = 0;  // next shift, first axis fastest
             while (k < D && s[k] == hi[k]) s[k] = lo[k], ++k;
@@ -358,8 +373,6 @@ void lattice_grid<T, D>::build_with(std::span<const T> coords, const lattice<D>&
     grid<double, D> search(points, reach, search_options);
 
     cell_ = cell;
-    for (int k = 0; k < D; ++k)
-        for (int c = 0; c < D; ++c) shift_rows_[k][c] = cell.pbc[k] ? cell.vectors[k][c] : 0.0;
     options_ = options;
     rounding_ = rounding;
     cutoff_ = max_limit;
@@ -368,6 +381,8 @@ void lattice_grid<T, D>::build_with(std::span<const T> coords, const lattice<D>&
     wrap_ = std::move(w.cells_out);
     image_atom_ = std::move(image_atom);
     image_shift_ = std::move(image_shift);
+    image_offset_ = std::move(image_offset);
+    shift_rows_ = rows;
     search_ = std::move(search);
 }
 
@@ -413,14 +428,22 @@ lattice_csr<T, D> lattice_grid<T, D>::neighbor_lists(const lattice_list_options&
             x.j = image_atom_[g - n];
             for (int k = 0; k < D; ++k) image[k] = image_shift_[std::size_t(g - n) * D + k];
         }
-        for (int k = 0; k < D; ++k) x.shift[k] = image[k] + wrap_[i * D + k] - wrap_[std::size_t(x.j) * D + k];
+        bool same_cell = true;  // i and j lie in the same cell: S is the copy's shift
+        for (int k = 0; k < D; ++k) {
+            x.shift[k] = image[k] + wrap_[i * D + k] - wrap_[std::size_t(x.j) * D + k];
+            same_cell = same_cell && x.shift[k] == image[k];
+        }
         if (options.half && !(x.j > i || (x.j == i && positive<D>(x.shift)))) return false;
         T d2 = 0;
         for (int c = 0; c < D; ++c) {
-            double s = 0;
-            for (int k = 0; k < D; ++k) s += double(x.shift[k]) * shift_rows_[k][c];
+            T offset;
+            if (same_cell) {
+                offset = g < n ? T(0) : image_offset_[std::size_t(g - n) * D + c];
+            } else {
+                offset = T(shift_vector<D>(shift_rows_, x.shift, c));
+            }
             const T delta = coords_[std::size_t(x.j) * D + c] - coords_[i * D + c];
-            x.vector[c] = delta + T(s);
+            x.vector[c] = delta + offset;
             d2 += x.vector[c] * x.vector[c];
         }
         x.distance = std::sqrt(d2);
