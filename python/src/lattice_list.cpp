@@ -5,11 +5,14 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "frnn/buffer.hpp"
 #include "frnn/lattice.hpp"
+#include "frnn/parallel.hpp"
 #include "numpy_io.hpp"
 
 namespace frnn::python {
@@ -69,11 +72,21 @@ py::tuple pairs(const py::array& points, const py::object& cell_obj, const py::o
         lists = g.neighbor_lists(lo);
     }
     const std::size_t m = lists.size();
-    std::vector<std::int64_t> i(m), j(m), s(m * D);
-    for (std::size_t row = 0; row < n; ++row)
-        for (std::uint64_t e = lists.offsets[row]; e < lists.offsets[row + 1]; ++e) i[e] = std::int64_t(row);
-    for (std::size_t e = 0; e < m; ++e) j[e] = lists.indices[e];
-    for (std::size_t e = 0; e < m * D; ++e) s[e] = lists.shifts[e];
+    std::vector<std::int64_t, buffer_allocator<std::int64_t>> i(m), j(m), s(m * D);
+    {
+        // ASE's int64 arrays, converted in parallel by rows (the copies of a large list take as
+        // long as a part of the search).
+        py::gil_scoped_release nogil;
+        const std::size_t parts = std::min<std::size_t>(n, 64);
+        parallel_chunks(parts, options.threads, [&](std::size_t part, int) {
+            for (std::size_t row = n * part / parts; row < n * (part + 1) / parts; ++row)
+                for (std::uint64_t e = lists.offsets[row]; e < lists.offsets[row + 1]; ++e) {
+                    i[e] = std::int64_t(row);
+                    j[e] = lists.indices[e];
+                    for (int k = 0; k < D; ++k) s[e * D + k] = lists.shifts[e * D + k];
+                }
+        });
+    }
     const auto rows = py::ssize_t(m);
     return py::make_tuple(to_numpy(std::move(i)), to_numpy(std::move(j)), to_numpy(std::move(s), {rows, D}),
                           to_numpy(std::move(lists.distances)), to_numpy(std::move(lists.vectors), {rows, D}));

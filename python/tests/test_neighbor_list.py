@@ -141,6 +141,9 @@ def test_tuple_input_2d_and_float32():
     # float32 positions: results in float32, the same pairs away from the cutoff.
     d32 = frnn.neighbor_list("d", (positions2.astype(np.float32), cell2, [True, False]), 2.2)
     assert d32.dtype == np.float32 and abs(len(d32) - len(d)) <= 2
+    # No atoms: empty arrays of the documented shapes.
+    i, S, D = frnn.neighbor_list("iSD", (np.zeros((0, 3)), np.eye(3), True), 1.0)
+    assert i.shape == (0,) and S.shape == (0, 3) and D.shape == (0, 3) and S.dtype == np.int64
     # One letter: one array; cell lengths accepted.
     assert frnn.neighbor_list("i", (positions2, [3.0, 3.0], True), 1.0).ndim == 1
 
