@@ -44,7 +44,9 @@ struct lattice {
 
 struct lattice_options {
     bool strict = false;  ///< list pairs with d < limit (ASE) instead of d <= limit
-    int threads = 0;      ///< threads for build and lists; 0: frnn::default_thread_count()
+    /// Threads for build and lists; 0: frnn::default_thread_count(). Searches of fewer than
+    /// 4,096 atoms and image copies run on the calling thread (the pool costs more there).
+    int threads = 0;
 };
 
 struct lattice_list_options {

@@ -77,7 +77,8 @@ py::tuple pairs(const py::array& points, const py::object& cell_obj, const py::o
         // ASE's int64 arrays, converted in parallel by rows (the copies of a large list take as
         // long as a part of the search).
         py::gil_scoped_release nogil;
-        const std::size_t parts = std::min<std::size_t>(n, 64);
+        // Small lists in one chunk on this thread: waking the pool costs more than they do.
+        const std::size_t parts = m < (std::size_t(1) << 16) ? std::min<std::size_t>(n, 1) : std::min<std::size_t>(n, 64);
         parallel_chunks(parts, options.threads, [&](std::size_t part, int) {
             for (std::size_t row = n * part / parts; row < n * (part + 1) / parts; ++row)
                 for (std::uint64_t e = lists.offsets[row]; e < lists.offsets[row + 1]; ++e) {
