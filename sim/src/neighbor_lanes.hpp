@@ -73,7 +73,8 @@ inline lanes minimum_image(lanes r, float box) {
 }
 
 /// One block of up to 8 neighbors j of particle i: their indices and r = x_j - x_i per axis.
-/// Lanes past the end of the list hold j = i and r = (far, 0, 0), farther than any cutoff.
+/// Lanes past the end of the list hold a valid index (i, or a chosen one) and r = (far, 0, 0),
+/// farther than any cutoff.
 template <int D>
 struct neighbor_block {
 #if defined(FRNN_SIM_AVX2)
@@ -84,18 +85,18 @@ struct neighbor_block {
     lanes r[D];
     lanes r2;  // |r|^2
 
-    /// The indices of list[0, valid), then i in the other lanes.
-    void load(const std::uint32_t* list, std::size_t valid, std::size_t i) {
+    /// The indices of list[0, valid), then pad in the other lanes.
+    void load(const std::uint32_t* list, std::size_t valid, std::size_t pad) {
 #if defined(FRNN_SIM_AVX2)
         if (valid == lane_count) {
             j = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(list));
         } else {
             const __m256i in_list = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(valid)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
             const __m256i loaded = _mm256_maskload_epi32(reinterpret_cast<const int*>(list), in_list);
-            j = _mm256_blendv_epi8(_mm256_set1_epi32(int(i)), loaded, in_list);
+            j = _mm256_blendv_epi8(_mm256_set1_epi32(int(pad)), loaded, in_list);
         }
 #else
-        for (std::size_t l = 0; l < lane_count; ++l) j[l] = l < valid ? list[l] : std::uint32_t(i);
+        for (std::size_t l = 0; l < lane_count; ++l) j[l] = l < valid ? list[l] : std::uint32_t(pad);
 #endif
     }
 
@@ -112,20 +113,21 @@ struct neighbor_block {
     }
 };
 
-/// Calls f(block) for the neighbors [begin, end) of particle i in blocks of 8; x holds D
-/// coordinates per particle; box the periodic lengths per axis (0: open), or null. Inlined
-/// into each pass, so the pass's sums stay in registers.
+/// Calls f(block) for the neighbors [begin, end) of a point at centre (D coordinates) in blocks
+/// of 8, r = x_j - centre; x holds D coordinates per particle of the list's set; pad is an
+/// index of that set for the lanes past the list's end; box the periodic lengths per axis (0:
+/// open), or null. Inlined into each pass, so the pass's sums stay in registers.
 template <int D, class F>
-[[gnu::always_inline]] inline void for_each_neighbor_block(const float* x, const float* box, std::size_t i,
-                                                           const std::uint32_t* begin, const std::uint32_t* end,
-                                                           float far, F&& f) {
+[[gnu::always_inline]] inline void for_each_block(const float* x, const float* centre, std::size_t pad,
+                                                  const float* box, const std::uint32_t* begin,
+                                                  const std::uint32_t* end, float far, F&& f) {
     neighbor_block<D> b;
     for (const std::uint32_t* it = begin; it < end; it += lane_count) {
         const std::size_t valid = std::size_t(end - it) < lane_count ? std::size_t(end - it) : lane_count;
-        b.load(it, valid, i);
+        b.load(it, valid, pad);
         b.r2 = lanes{};
         for (int a = 0; a < D; ++a) {
-            b.r[a] = b.gather(x, D, a) - x[i * D + a];
+            b.r[a] = b.gather(x, D, a) - centre[a];
             if (box && box[a] > 0) b.r[a] = minimum_image(b.r[a], box[a]);
             b.r2 += b.r[a] * b.r[a];
         }
@@ -136,6 +138,14 @@ template <int D, class F>
         }
         f(b);
     }
+}
+
+/// for_each_block over the neighbors [begin, end) of particle i of the same set.
+template <int D, class F>
+[[gnu::always_inline]] inline void for_each_neighbor_block(const float* x, const float* box, std::size_t i,
+                                                           const std::uint32_t* begin, const std::uint32_t* end,
+                                                           float far, F&& f) {
+    for_each_block<D>(x, x + i * D, i, box, begin, end, far, static_cast<F&&>(f));
 }
 
 }  // namespace frnn::sim::detail::FRNN_SIM_NS
