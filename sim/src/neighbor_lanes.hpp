@@ -73,8 +73,7 @@ inline lanes minimum_image(lanes r, float box) {
 }
 
 /// One block of up to 8 neighbors j of particle i: their indices and r = x_j - x_i per axis.
-/// Lanes past the end of the list hold a valid index (i, or a chosen one) and r = (far, 0, 0),
-/// farther than any cutoff.
+/// Lanes past the end of the list hold j = i and r = (far, 0, 0), farther than any cutoff.
 template <int D>
 struct neighbor_block {
 #if defined(FRNN_SIM_AVX2)
@@ -85,18 +84,18 @@ struct neighbor_block {
     lanes r[D];
     lanes r2;  // |r|^2
 
-    /// The indices of list[0, valid), then pad in the other lanes.
-    void load(const std::uint32_t* list, std::size_t valid, std::size_t pad) {
+    /// The indices of list[0, valid), then i in the other lanes.
+    void load(const std::uint32_t* list, std::size_t valid, std::size_t i) {
 #if defined(FRNN_SIM_AVX2)
         if (valid == lane_count) {
             j = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(list));
         } else {
             const __m256i in_list = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(valid)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
             const __m256i loaded = _mm256_maskload_epi32(reinterpret_cast<const int*>(list), in_list);
-            j = _mm256_blendv_epi8(_mm256_set1_epi32(int(pad)), loaded, in_list);
+            j = _mm256_blendv_epi8(_mm256_set1_epi32(int(i)), loaded, in_list);
         }
 #else
-        for (std::size_t l = 0; l < lane_count; ++l) j[l] = l < valid ? list[l] : std::uint32_t(pad);
+        for (std::size_t l = 0; l < lane_count; ++l) j[l] = l < valid ? list[l] : std::uint32_t(i);
 #endif
     }
 
@@ -113,21 +112,20 @@ struct neighbor_block {
     }
 };
 
-/// Calls f(block) for the neighbors [begin, end) of a point at centre (D coordinates) in blocks
-/// of 8, r = x_j - centre; x holds D coordinates per particle of the list's set; pad is an
-/// index of that set for the lanes past the list's end; box the periodic lengths per axis (0:
-/// open), or null. Inlined into each pass, so the pass's sums stay in registers.
+/// Calls f(block) for the neighbors [begin, end) of particle i in blocks of 8; x holds D
+/// coordinates per particle; box the periodic lengths per axis (0: open), or null. Inlined
+/// into each pass, so the pass's sums stay in registers.
 template <int D, class F>
-[[gnu::always_inline]] inline void for_each_block(const float* x, const float* centre, std::size_t pad,
-                                                  const float* box, const std::uint32_t* begin,
-                                                  const std::uint32_t* end, float far, F&& f) {
+[[gnu::always_inline]] inline void for_each_neighbor_block(const float* x, const float* box, std::size_t i,
+                                                           const std::uint32_t* begin, const std::uint32_t* end,
+                                                           float far, F&& f) {
     neighbor_block<D> b;
     for (const std::uint32_t* it = begin; it < end; it += lane_count) {
         const std::size_t valid = std::size_t(end - it) < lane_count ? std::size_t(end - it) : lane_count;
-        b.load(it, valid, pad);
+        b.load(it, valid, i);
         b.r2 = lanes{};
         for (int a = 0; a < D; ++a) {
-            b.r[a] = b.gather(x, D, a) - centre[a];
+            b.r[a] = b.gather(x, D, a) - x[i * D + a];
             if (box && box[a] > 0) b.r[a] = minimum_image(b.r[a], box[a]);
             b.r2 += b.r[a] * b.r[a];
         }
@@ -140,12 +138,65 @@ template <int D, class F>
     }
 }
 
-/// for_each_block over the neighbors [begin, end) of particle i of the same set.
+/// One block of up to 8 neighbors read from records of 4 floats per particle ({x, y, z, extra}
+/// in 3D, {x, y, unused, extra} in 2D): whole records are loaded and transposed, faster than
+/// a gather per field. r = x_j - centre per axis, extra the records' fourth floats. Lanes past
+/// the end of the list read the record of a valid index (pad) and hold r = (far, 0, 0).
+template <int D>
+struct record_block {
+    std::uint32_t j[lane_count];
+    lanes r[D];
+    lanes r2;     // |r|^2
+    lanes extra;  // the fourth float of the records read for r
+
+    /// out[c][l] = records[4 j_l + c], for c < 4.
+    void read(const float* records, lanes out[4]) const {
+#if defined(FRNN_SIM_AVX2)
+        __m256 row[4];
+        for (int k = 0; k < 4; ++k)
+            row[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(records + 4 * std::size_t(j[k]))),
+                                          _mm_loadu_ps(records + 4 * std::size_t(j[k + 4])), 1);
+        const __m256 t0 = _mm256_unpacklo_ps(row[0], row[1]), t1 = _mm256_unpackhi_ps(row[0], row[1]);
+        const __m256 t2 = _mm256_unpacklo_ps(row[2], row[3]), t3 = _mm256_unpackhi_ps(row[2], row[3]);
+        out[0] = lanes(_mm256_shuffle_ps(t0, t2, 0x44));
+        out[1] = lanes(_mm256_shuffle_ps(t0, t2, 0xEE));
+        out[2] = lanes(_mm256_shuffle_ps(t1, t3, 0x44));
+        out[3] = lanes(_mm256_shuffle_ps(t1, t3, 0xEE));
+#else
+        for (int l = 0; l < lane_count; ++l)
+            for (int c = 0; c < 4; ++c) out[c][l] = records[4 * std::size_t(j[l]) + std::size_t(c)];
+#endif
+    }
+};
+
+/// Calls f(block) for the neighbors [begin, end) of the point at centre (D coordinates) in
+/// blocks of 8, the neighbors' positions and fourth floats read from records (see
+/// record_block); pad an index for the lanes past the list's end; box the periodic lengths per
+/// axis (0: open), or null.
 template <int D, class F>
-[[gnu::always_inline]] inline void for_each_neighbor_block(const float* x, const float* box, std::size_t i,
-                                                           const std::uint32_t* begin, const std::uint32_t* end,
-                                                           float far, F&& f) {
-    for_each_block<D>(x, x + i * D, i, box, begin, end, far, static_cast<F&&>(f));
+[[gnu::always_inline]] inline void for_each_record_block(const float* records, const float* centre, std::size_t pad,
+                                                         const float* box, const std::uint32_t* begin,
+                                                         const std::uint32_t* end, float far, F&& f) {
+    record_block<D> b;
+    for (const std::uint32_t* it = begin; it < end; it += lane_count) {
+        const std::size_t valid = std::size_t(end - it) < lane_count ? std::size_t(end - it) : lane_count;
+        for (std::size_t l = 0; l < lane_count; ++l) b.j[l] = l < valid ? it[l] : std::uint32_t(pad);
+        lanes field[4];
+        b.read(records, field);
+        b.r2 = lanes{};
+        for (int a = 0; a < D; ++a) {
+            b.r[a] = field[a] - centre[a];
+            if (box && box[a] > 0) b.r[a] = minimum_image(b.r[a], box[a]);
+            b.r2 += b.r[a] * b.r[a];
+        }
+        b.extra = field[3];
+        if (valid < lane_count) {
+            const lane_mask in_list = lane_mask{0, 1, 2, 3, 4, 5, 6, 7} < int(valid);
+            b.r[0] = blend(in_list, b.r[0], lanes{} + far);
+            b.r2 = blend(in_list, b.r2, lanes{} + far * far);
+        }
+        f(b);
+    }
 }
 
 }  // namespace frnn::sim::detail::FRNN_SIM_NS

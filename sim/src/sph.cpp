@@ -49,7 +49,8 @@ public:
           pairs_(sph_pairs_for<D>(level)) {
         acc_.assign(n_ * D, 0);
         background_acc_.assign(n_ * D, 0);
-        p_over_rho2_.assign(n_, 0);
+        position_.assign(4 * n_, 0);
+        velocity_.assign(4 * n_, 0);
         // Mass: an interior particle of the initial lattice has exactly the rest density.
         const double sp = this->spacing_;
         const int k = int(std::ceil(2 * h_ / sp));
@@ -248,6 +249,13 @@ private:
         }
         const bool use_walls = !walls.empty();
         const double R = 2 * h_, inv_rho0 = 1 / prm_.rest_density, norm = w_(0);  // W = norm w(r / R)
+        // The pair passes' records: {x, rho} and {v, p / rho^2} (rho and p once known).
+        parallel_for(
+            n_, threads_, prof, stage::density,
+            [&](std::size_t i) {
+                for (int a = 0; a < D; ++a) position_[4 * i + a] = x_[i * D + a];
+            },
+            min_parallel_light);
         const sph_view view = pair_view(wall_particles);
         const auto row = [&](std::size_t i) {
             if (!wall_particles) return sph_row{i, neighbors_.begin(i), neighbors_.end(i), nullptr, nullptr};
@@ -265,14 +273,16 @@ private:
             rho_[i] = float(rho);
             p_[i] = pressure(float(rho));
             // The pressure term of the momentum equation, once per particle, not per pair.
-            p_over_rho2_[i] = float(p_[i] / (double(rho_[i]) * rho_[i]));
+            position_[4 * i + 3] = rho_[i];
+            for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
+            velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
         });
         if (wall_particles) {
             const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
             walls_.extrapolate(
                 threads_, prof,
                 [&](std::size_t w, const std::uint32_t* begin, const std::uint32_t* end) {
-                    return pairs_.extrapolation(view, w, begin, end, p_.data(), g);
+                    return pairs_.extrapolation(view, w, begin, end, g);
                 },
                 [&](double p) { return density_of(p); });
         }
@@ -288,7 +298,7 @@ private:
                 vec3 x{0, 0, 0};
                 for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
                 // Mirror particles behind the wall with the particle's own pressure.
-                const double pi_term = p_over_rho2_[i];
+                const double pi_term = velocity_[4 * i + 3];
                 for (const auto& c : walls)
                     c.for_each_wall(x, R, [&](double d, const vec3& nrm) {
                         const double s = -2 * pi_term * wall_density_ * psi_.derivative(d);
@@ -304,9 +314,9 @@ private:
     /// The arrays and constants of the pair passes (sph_pairs.hpp), this evaluation's.
     sph_view pair_view(bool with_walls) const {
         sph_view s;
-        s.x = x_.data(), s.v = v_.data(), s.rho = rho_.data(), s.p_over_rho2 = p_over_rho2_.data();
+        s.position = position_.data(), s.velocity = velocity_.data(), s.pressure = p_.data();
         s.box = this->periodic_ ? this->box_ : nullptr;
-        if (with_walls) s.wall_x = walls_.positions(), s.wall_rho = walls_.densities(), s.wall_p_over_rho2 = walls_.pressure_terms();
+        if (with_walls) s.wall = walls_.records(), s.wall_p_over_rho2 = walls_.pressure_terms();
         s.support = float(2 * h_);
         s.eps2 = float(0.01 * h_ * h_);
         // Monaghan's Pi_ij = -alpha c0 h v_ij . x_ij / ((r^2 + 0.01 h^2) rho_bar_ij), for
@@ -324,7 +334,7 @@ private:
     double mass_ = 0, wall_density_ = 0, c0_ = 0, settle_rate_ = 0;
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
-    std::vector<float> p_over_rho2_;     // p / rho^2 per particle, this evaluation's
+    std::vector<float> position_, velocity_;  // per particle {x, rho}, {v, p / rho^2} (sph_pairs.hpp)
     bool have_acc_ = false;
     wall_particles<D> walls_;  // sph.wall_particles
     sph_pair_kernels<D> pairs_;

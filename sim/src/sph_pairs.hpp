@@ -12,22 +12,20 @@
 
 namespace frnn::sim::detail {
 
-/// What the WCSPH pair passes read: particle arrays in cell order (D values per particle for x
-/// and v, one for the others), the wall particles' arrays, and the constants.
+/// What the WCSPH pair passes read: per particle in cell order, records of 4 floats (their
+/// fourth float beside the D components, see neighbor_lanes.hpp), and the constants.
 struct sph_view {
-    const float* x = nullptr;
-    const float* v = nullptr;
-    const float* rho = nullptr;
-    const float* p_over_rho2 = nullptr;  // p / rho^2
-    const float* box = nullptr;          // periodic box lengths per axis (0: open axis), or null
-    const float* wall_x = nullptr;
-    const float* wall_rho = nullptr;
+    const float* position = nullptr;  // fluid {x, rho}: the density pass reads x only
+    const float* velocity = nullptr;  // fluid {v, p / rho^2}
+    const float* pressure = nullptr;  // fluid p
+    const float* box = nullptr;       // periodic box lengths per axis (0: open axis), or null
+    const float* wall = nullptr;      // wall particles {x, rho}
     const float* wall_p_over_rho2 = nullptr;
-    float support = 0;      // R = 2h
-    float eps2 = 0;         // 0.01 h^2
-    float viscosity = 0;    // the artificial viscosity's -2 alpha c0 h (0: off)
-    float laminar = 0;      // the laminar viscosity's nu (0: off)
-    float background = 0;   // the transport velocity's background pressure p_b (0: off)
+    float support = 0;     // R = 2h
+    float eps2 = 0;        // 0.01 h^2
+    float viscosity = 0;   // the artificial viscosity's -2 alpha c0 h (0: off)
+    float laminar = 0;     // the laminar viscosity's nu (0: off)
+    float background = 0;  // the transport velocity's background pressure p_b (0: off)
 };
 
 /// A particle's neighbors among the fluid [begin, end) and among the walls [wall_begin, wall_end).
@@ -54,10 +52,9 @@ struct sph_pair_kernels {
     /// factors (sph_pairs_impl.hpp): pressure and artificial viscosity into acc, the laminar
     /// viscosity into laminar and the background pressure into background (0 when off).
     void (*forces)(const sph_view&, const sph_row&, float* acc, float* laminar, float* background);
-    /// The sums of wall particle w at wall_x[w], over its fluid neighbors [begin, end); p and
-    /// gravity the fluid's pressures and the gravity vector.
+    /// The sums of wall particle w over its fluid neighbors [begin, end) (gravity: 3 values).
     wall_sums (*extrapolation)(const sph_view&, std::size_t w, const std::uint32_t* begin, const std::uint32_t* end,
-                               const float* p, const float* gravity);
+                               const float* gravity);
 };
 
 namespace base {

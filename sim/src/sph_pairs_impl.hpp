@@ -25,15 +25,13 @@ inline lanes spline_slope(lanes q) {
 template <int D>
 void density(const sph_view& s, const sph_row& row, float* fluid_out, float* walls_out) {
     const std::size_t i = row.i;
-    const float inv_r = 1 / s.support, far = 2 * s.support;
+    const float inv_r = 1 / s.support, far = 2 * s.support, *x_i = s.position + 4 * i;
     lanes fluid = lanes{}, walls = lanes{};
-    for_each_neighbor_block<D>(s.x, s.box, i, row.begin, row.end, far,
-                               [&](const neighbor_block<D>& b) { fluid += spline(sqrt_lanes(b.r2) * inv_r); });
+    for_each_record_block<D>(s.position, x_i, i, s.box, row.begin, row.end, far,
+                             [&](const record_block<D>& b) { fluid += spline(sqrt_lanes(b.r2) * inv_r); });
     if (row.wall_begin < row.wall_end)
-        for_each_block<D>(s.wall_x, s.x + i * D, *row.wall_begin, nullptr, row.wall_begin, row.wall_end, far,
-                          [&](const neighbor_block<D>& b) {
-                              walls += spline(sqrt_lanes(b.r2) * inv_r) * b.gather(s.wall_rho, 1, 0);
-                          });
+        for_each_record_block<D>(s.wall, x_i, *row.wall_begin, nullptr, row.wall_begin, row.wall_end, far,
+                                 [&](const record_block<D>& b) { walls += spline(sqrt_lanes(b.r2) * inv_r) * b.extra; });
     *fluid_out = sum_lanes(fluid);
     *walls_out = sum_lanes(walls);
 }
@@ -47,20 +45,21 @@ template <int D>
 void forces(const sph_view& s, const sph_row& row, float* acc_out, float* laminar_out, float* background_out) {
     const std::size_t i = row.i;
     const float R = s.support, inv_r = 1 / R, far = 2 * R, eps2 = s.eps2, c = s.viscosity;
-    const float p_i = s.p_over_rho2[i], rho_i = s.rho[i];
-    float v_i[D];
-    for (int a = 0; a < D; ++a) v_i[a] = s.v[i * D + a];
+    const float *x_i = s.position + 4 * i, *v_i = s.velocity + 4 * i;
+    const float rho_i = x_i[3], p_i = v_i[3];
     lanes acc[D] = {}, laminar[D] = {}, background[D] = {};
     const bool with_laminar = s.laminar > 0, with_background = s.background > 0;
-    for_each_neighbor_block<D>(s.x, s.box, i, row.begin, row.end, far, [&](const neighbor_block<D>& b) {
+    for_each_record_block<D>(s.position, x_i, i, s.box, row.begin, row.end, far, [&](const record_block<D>& b) {
         const lanes len = sqrt_lanes(b.r2), q = len * inv_r;
         const lane_mask close = (len > 0) & (q < 1);
         const lanes g = spline_slope(q);
+        lanes v_j[4];
+        b.read(s.velocity, v_j);
         lanes dv[D], vr = lanes{};
-        for (int a = 0; a < D; ++a) dv[a] = v_i[a] - b.gather(s.v, D, a), vr -= dv[a] * b.r[a];
-        const lanes rho_j = b.gather(s.rho, 1, 0), d2 = b.r2 + eps2;
+        for (int a = 0; a < D; ++a) dv[a] = v_i[a] - v_j[a], vr -= dv[a] * b.r[a];
+        const lanes rho_j = b.extra, d2 = b.r2 + eps2;
         const lanes den = d2 * (rho_i + rho_j);
-        const lanes num = (p_i + b.gather(s.p_over_rho2, 1, 0)) * den + c * blend(vr < 0, vr, lanes{});
+        const lanes num = (p_i + v_j[3]) * den + c * blend(vr < 0, vr, lanes{});
         const lanes term = select(close, num * g / (len * den));
         for (int a = 0; a < D; ++a) acc[a] += term * b.r[a];
         if (with_laminar) {
@@ -74,18 +73,20 @@ void forces(const sph_view& s, const sph_row& row, float* acc_out, float* lamina
         }
     });
     if (row.wall_begin < row.wall_end)
-        for_each_block<D>(s.wall_x, s.x + i * D, *row.wall_begin, nullptr, row.wall_begin, row.wall_end, far,
-                          [&](const neighbor_block<D>& b) {
-                              const lanes len = sqrt_lanes(b.r2), q = len * inv_r;
-                              const lane_mask close = (len > 0) & (q < 1);
-                              const lanes g = spline_slope(q);
-                              lanes vr = lanes{};
-                              for (int a = 0; a < D; ++a) vr -= v_i[a] * b.r[a];
-                              const lanes den = (b.r2 + eps2) * (rho_i + b.gather(s.wall_rho, 1, 0));
-                              const lanes num = (p_i + b.gather(s.wall_p_over_rho2, 1, 0)) * den + c * blend(vr < 0, vr, lanes{});
-                              const lanes term = select(close, num * g / (len * den));
-                              for (int a = 0; a < D; ++a) acc[a] += term * b.r[a];
-                          });
+        for_each_record_block<D>(s.wall, x_i, *row.wall_begin, nullptr, row.wall_begin, row.wall_end, far,
+                                 [&](const record_block<D>& b) {
+                                     const lanes len = sqrt_lanes(b.r2), q = len * inv_r;
+                                     const lane_mask close = (len > 0) & (q < 1);
+                                     const lanes g = spline_slope(q);
+                                     lanes vr = lanes{};
+                                     for (int a = 0; a < D; ++a) vr -= v_i[a] * b.r[a];
+                                     lanes p_w;
+                                     for (int l = 0; l < lane_count; ++l) p_w[l] = s.wall_p_over_rho2[b.j[l]];
+                                     const lanes den = (b.r2 + eps2) * (rho_i + b.extra);
+                                     const lanes num = (p_i + p_w) * den + c * blend(vr < 0, vr, lanes{});
+                                     const lanes term = select(close, num * g / (len * den));
+                                     for (int a = 0; a < D; ++a) acc[a] += term * b.r[a];
+                                 });
     for (int a = 0; a < D; ++a) {
         acc_out[a] = sum_lanes(acc[a]);
         laminar_out[a] = sum_lanes(laminar[a]);
@@ -95,18 +96,21 @@ void forces(const sph_view& s, const sph_row& row, float* acc_out, float* lamina
 
 template <int D>
 wall_sums extrapolation(const sph_view& s, std::size_t w, const std::uint32_t* begin, const std::uint32_t* end,
-                        const float* p, const float* gravity) {
+                        const float* gravity) {
     const float inv_r = 1 / s.support, far = 2 * s.support;
     lanes weight = lanes{}, pressure = lanes{}, rise = lanes{};
     if (begin < end)
-        for_each_block<D>(s.x, s.wall_x + w * D, *begin, nullptr, begin, end, far, [&](const neighbor_block<D>& b) {
-            const lanes k = spline(sqrt_lanes(b.r2) * inv_r);
-            lanes down = lanes{};  // g . (x_f - x_w)
-            for (int a = 0; a < D; ++a) down += gravity[a] * b.r[a];
-            weight += k;
-            pressure += b.gather(p, 1, 0) * k;
-            rise -= down * b.gather(s.rho, 1, 0) * k;
-        });
+        for_each_record_block<D>(s.position, s.wall + 4 * w, *begin, nullptr, begin, end, far,
+                                 [&](const record_block<D>& b) {
+                                     const lanes k = spline(sqrt_lanes(b.r2) * inv_r);
+                                     lanes down = lanes{};  // g . (x_f - x_w)
+                                     for (int a = 0; a < D; ++a) down += gravity[a] * b.r[a];
+                                     lanes p;
+                                     for (int l = 0; l < lane_count; ++l) p[l] = s.pressure[b.j[l]];
+                                     weight += k;
+                                     pressure += p * k;
+                                     rise -= down * b.extra * k;
+                                 });
     return {sum_lanes(weight), sum_lanes(pressure), sum_lanes(rise)};
 }
 

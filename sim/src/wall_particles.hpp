@@ -74,7 +74,11 @@ public:
                 }
         p_.assign(size(), 0);
         p_over_rho2_.assign(size(), 0);
-        rho_.assign(size(), float(s.sph.rest_density));
+        records_.assign(4 * size(), 0);
+        for (std::size_t k = 0; k < size(); ++k) {
+            for (int a = 0; a < D; ++a) records_[4 * k + std::size_t(a)] = x_[k * D + std::size_t(a)];
+            records_[4 * k + 3] = float(s.sph.rest_density);
+        }
         if (empty()) return;
         grid_options o;
         o.threads = threads;
@@ -101,9 +105,8 @@ public:
     const std::uint32_t* begin(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i]; }
     const std::uint32_t* end(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i + 1]; }
 
-    /// The wall particles' positions (D per particle), densities and p / rho^2.
-    const float* positions() const { return x_.data(); }
-    const float* densities() const { return rho_.data(); }
+    /// The wall particles' records {x, rho} (4 floats each, see neighbor_lanes.hpp) and p / rho^2.
+    const float* records() const { return records_.data(); }
     const float* pressure_terms() const { return p_over_rho2_.data(); }
 
     /// p_w = max(0, (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf) over the
@@ -120,9 +123,10 @@ public:
             // A fluid neighbor exactly at the support weighs 0: pressure 0 when it is the only one.
             const double sum_w = s.weight;
             const double pressure = sum_w > 0 ? std::max(0.0, (double(s.pressure) + double(s.rise)) / sum_w) : 0;
+            const float rho = float(density_of(pressure));
             p_[k] = float(pressure);
-            rho_[k] = float(density_of(pressure));
-            p_over_rho2_[k] = float(double(p_[k]) / (double(rho_[k]) * rho_[k]));
+            records_[4 * k + 3] = rho;
+            p_over_rho2_[k] = float(double(p_[k]) / (double(rho) * rho));
         });
     }
 
@@ -158,7 +162,8 @@ private:
     std::vector<float> x_;
     std::vector<char> holds_;
     grid<float, D> grid_;
-    std::vector<float> p_, rho_, p_over_rho2_;
+    std::vector<float> p_, p_over_rho2_;
+    std::vector<float> records_;  ///< {x, rho} per wall particle
     csr<float> fluid_walls_;
     std::vector<std::uint32_t> row_of_;  ///< per wall particle: its row among active_
     std::vector<std::uint32_t> active_;  ///< this step's wall particles with a fluid neighbor
