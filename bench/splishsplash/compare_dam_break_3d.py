@@ -35,6 +35,8 @@ SCENE = os.path.join(HERE, "wcsph_dam_break_3d.json")
 def locate(where):
     """(SPHSimulator, UnitBox.obj) from a build's source folder or its binary."""
     binary = where
+    if not os.path.exists(where):
+        raise SystemExit("%s: no such file or folder (SPlisHSPlasH's build, or its SPHSimulator)" % where)
     if os.path.isdir(where):
         binary = next((os.path.join(where, p) for p in ("bin/SPHSimulator", "src/bin/SPHSimulator", "SPHSimulator")
                        if os.path.isfile(os.path.join(where, p))), None)
