@@ -272,13 +272,13 @@ private:
             }
             rho_[i] = float(rho);
             p_[i] = pressure(float(rho));
-            // The pressure term of the momentum equation, once per particle, not per pair.
             position_[4 * i + 3] = rho_[i];
             for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
+            // The pressure term of the momentum equation, once per particle, not per pair.
             velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
         });
+        const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         if (wall_particles) {
-            const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
             walls_.extrapolate(
                 threads_, prof,
                 [&](std::size_t w, const std::uint32_t* begin, const std::uint32_t* end) {
@@ -286,7 +286,6 @@ private:
                 },
                 [&](double p) { return density_of(p); });
         }
-        const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         // m dW/dr = m 6 norm / R g(q) (sph_pairs_impl.hpp).
         const double slope = mass_ * 6 * norm / R, nu = laminar() ? prm_.nu : 0, pb = prm_.background_pressure;
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {

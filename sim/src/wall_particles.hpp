@@ -72,7 +72,6 @@ public:
                     if (phi > 0 || phi <= -support) continue;
                     for (int a = 0; a < D; ++a) x_.push_back(float(x[a]));
                 }
-        p_.assign(size(), 0);
         p_over_rho2_.assign(size(), 0);
         records_.assign(4 * size(), 0);
         for (std::size_t k = 0; k < size(); ++k) {
@@ -123,10 +122,9 @@ public:
             // A fluid neighbor exactly at the support weighs 0: pressure 0 when it is the only one.
             const double sum_w = s.weight;
             const double pressure = sum_w > 0 ? std::max(0.0, (double(s.pressure) + double(s.rise)) / sum_w) : 0;
-            const float rho = float(density_of(pressure));
-            p_[k] = float(pressure);
+            const float p = float(pressure), rho = float(density_of(pressure));
             records_[4 * k + 3] = rho;
-            p_over_rho2_[k] = float(double(p_[k]) / (double(rho) * rho));
+            p_over_rho2_[k] = float(double(p) / (double(rho) * rho));
         });
     }
 
@@ -162,8 +160,8 @@ private:
     std::vector<float> x_;
     std::vector<char> holds_;
     grid<float, D> grid_;
-    std::vector<float> p_, p_over_rho2_;
-    std::vector<float> records_;  ///< {x, rho} per wall particle
+    std::vector<float> p_over_rho2_;  ///< p / rho^2 per wall particle
+    std::vector<float> records_;      ///< {x, rho} per wall particle
     csr<float> fluid_walls_;
     std::vector<std::uint32_t> row_of_;  ///< per wall particle: its row among active_
     std::vector<std::uint32_t> active_;  ///< this step's wall particles with a fluid neighbor
