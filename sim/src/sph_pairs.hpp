@@ -37,16 +37,18 @@ struct sph_row {
     const std::uint32_t* wall_end;
 };
 
-/// Sums of a wall particle's fluid neighbors for its extrapolated pressure.
+/// Sums of a wall particle's fluid neighbors for its extrapolated pressure, with the kernel
+/// w = W / norm (sph_pairs_impl.hpp; the factor cancels in the pressure).
 struct wall_sums {
-    float weight = 0;    // sum_f W_wf
-    float pressure = 0;  // sum_f p_f W_wf
-    float rise = 0;      // g . sum_f rho_f (x_w - x_f) W_wf
+    float weight = 0;    // sum_f w_wf
+    float pressure = 0;  // sum_f p_f w_wf
+    float rise = 0;      // g . sum_f rho_f (x_w - x_f) w_wf
 };
 
 template <int D>
 struct sph_pair_kernels {
-    /// sum_j W_ij over the fluid neighbors and sum_w W_iw rho_w over the wall neighbors.
+    /// sum_j w_ij over the fluid neighbors and sum_w w_iw rho_w over the wall neighbors, with
+    /// the kernel w = W / norm (sph_pairs_impl.hpp).
     void (*density)(const sph_view&, const sph_row&, float* fluid, float* walls);
     /// The momentum equation's sums over the fluid and wall neighbors without their constant
     /// factors (sph_pairs_impl.hpp): pressure and artificial viscosity into acc, the laminar
