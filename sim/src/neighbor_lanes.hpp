@@ -138,4 +138,65 @@ template <int D, class F>
     }
 }
 
+/// One block of up to 8 neighbors read from records of 4 floats per particle ({x, y, z, extra}
+/// in 3D, {x, y, unused, extra} in 2D): whole records are loaded and transposed, faster than
+/// a gather per field. r = x_j - centre per axis, extra the records' fourth floats. Lanes past
+/// the end of the list read the record of a valid index (pad) and hold r = (far, 0, 0).
+template <int D>
+struct record_block {
+    std::uint32_t j[lane_count];
+    lanes r[D];
+    lanes r2;     // |r|^2
+    lanes extra;  // the fourth float of the records read for r
+
+    /// out[c][l] = records[4 j_l + c], for c < 4.
+    void read(const float* records, lanes out[4]) const {
+#if defined(FRNN_SIM_AVX2)
+        __m256 row[4];
+        for (int k = 0; k < 4; ++k)
+            row[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(records + 4 * std::size_t(j[k]))),
+                                          _mm_loadu_ps(records + 4 * std::size_t(j[k + 4])), 1);
+        const __m256 t0 = _mm256_unpacklo_ps(row[0], row[1]), t1 = _mm256_unpackhi_ps(row[0], row[1]);
+        const __m256 t2 = _mm256_unpacklo_ps(row[2], row[3]), t3 = _mm256_unpackhi_ps(row[2], row[3]);
+        out[0] = lanes(_mm256_shuffle_ps(t0, t2, 0x44));
+        out[1] = lanes(_mm256_shuffle_ps(t0, t2, 0xEE));
+        out[2] = lanes(_mm256_shuffle_ps(t1, t3, 0x44));
+        out[3] = lanes(_mm256_shuffle_ps(t1, t3, 0xEE));
+#else
+        for (int l = 0; l < lane_count; ++l)
+            for (int c = 0; c < 4; ++c) out[c][l] = records[4 * std::size_t(j[l]) + std::size_t(c)];
+#endif
+    }
+};
+
+/// Calls f(block) for the neighbors [begin, end) of the point at centre (D coordinates) in
+/// blocks of 8, the neighbors' positions and fourth floats read from records (see
+/// record_block); pad an index for the lanes past the list's end; box the periodic lengths per
+/// axis (0: open), or null.
+template <int D, class F>
+[[gnu::always_inline]] inline void for_each_record_block(const float* records, const float* centre, std::size_t pad,
+                                                         const float* box, const std::uint32_t* begin,
+                                                         const std::uint32_t* end, float far, F&& f) {
+    record_block<D> b;
+    for (const std::uint32_t* it = begin; it < end; it += lane_count) {
+        const std::size_t valid = std::size_t(end - it) < lane_count ? std::size_t(end - it) : lane_count;
+        for (std::size_t l = 0; l < lane_count; ++l) b.j[l] = l < valid ? it[l] : std::uint32_t(pad);
+        lanes field[4];
+        b.read(records, field);
+        b.r2 = lanes{};
+        for (int a = 0; a < D; ++a) {
+            b.r[a] = field[a] - centre[a];
+            if (box && box[a] > 0) b.r[a] = minimum_image(b.r[a], box[a]);
+            b.r2 += b.r[a] * b.r[a];
+        }
+        b.extra = field[3];
+        if (valid < lane_count) {
+            const lane_mask in_list = lane_mask{0, 1, 2, 3, 4, 5, 6, 7} < int(valid);
+            b.r[0] = blend(in_list, b.r[0], lanes{} + far);
+            b.r2 = blend(in_list, b.r2, lanes{} + far * far);
+        }
+        f(b);
+    }
+}
+
 }  // namespace frnn::sim::detail::FRNN_SIM_NS

@@ -21,12 +21,17 @@
 //   the force a uniform background pressure p_b would exert. It vanishes on a uniform
 //   arrangement and pushes disordered particles back towards one, which keeps the tensile
 //   instability from clumping them where the pressure is negative.
+// The pair sums (density, momentum equation, the wall particles' extrapolation) run in float,
+// 8 neighbors at a time without a branch per pair (sph_pairs_impl.hpp), the same bits on every
+// instruction-set level and thread count; the per-particle arithmetic (equation of state, the
+// constant factors, the kernel integral over walls) is double.
 #include <cmath>
 #include <memory>
 
 #include "frnn/sim/kernels.hpp"
 #include "particle_solver.hpp"
 #include "solvers.hpp"
+#include "sph_pairs.hpp"
 #include "wall_particles.hpp"
 
 namespace frnn::sim {
@@ -39,11 +44,13 @@ class sph final : public particle_solver<D> {
     using base::n_, base::x_, base::v_, base::rho_, base::p_, base::id_, base::threads_, base::neighbors_;
 
 public:
-    sph(const scene& s, int threads)
-        : base(s, threads), prm_(s.sph), h_(prm_.h_ratio * this->spacing_), w_(2 * h_), psi_(w_) {
+    sph(const scene& s, int threads, std::string_view level)
+        : base(s, threads), prm_(s.sph), h_(prm_.h_ratio * this->spacing_), w_(2 * h_), psi_(w_),
+          pairs_(sph_pairs_for<D>(level)) {
         acc_.assign(n_ * D, 0);
         background_acc_.assign(n_ * D, 0);
-        p_over_rho2_.assign(n_, 0);
+        position_.assign(4 * n_, 0);
+        velocity_.assign(4 * n_, 0);
         // Mass: an interior particle of the initial lattice has exactly the rest density.
         const double sp = this->spacing_;
         const int k = int(std::ceil(2 * h_ / sp));
@@ -241,19 +248,23 @@ private:
                 if (!walls_.holds(k)) walls.push_back(posed[k]);
         }
         const bool use_walls = !walls.empty();
-        const double R = 2 * h_, inv_rho0 = 1 / prm_.rest_density;
+        const double R = 2 * h_, inv_rho0 = 1 / prm_.rest_density, norm = w_(0);  // W = norm w(r / R)
+        // The pair passes' records: {x, rho} and {v, p / rho^2} (rho and p once known).
+        parallel_for(
+            n_, threads_, prof, stage::density,
+            [&](std::size_t i) {
+                for (int a = 0; a < D; ++a) position_[4 * i + a] = x_[i * D + a];
+            },
+            min_parallel_light);
+        const sph_view view = pair_view(wall_particles);
+        const auto row = [&](std::size_t i) {
+            if (!wall_particles) return sph_row{i, neighbors_.begin(i), neighbors_.end(i), nullptr, nullptr};
+            return sph_row{i, neighbors_.begin(i), neighbors_.end(i), walls_.begin(i), walls_.end(i)};
+        };
         parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
-            double rho = w_(0);
-            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
-                float r[D];
-                rho += w_(this->dist(i, *it, r));
-            }
-            if (wall_particles)
-                for (auto* it = walls_.begin(i); it != walls_.end(i); ++it) {
-                    float r[D];
-                    rho += w_(walls_.distance(*it, &x_[i * D], r)) * walls_.density(*it) * inv_rho0;
-                }
-            rho *= mass_;
+            float fluid = 0, wall = 0;  // sum_j w_ij, sum_w w_iw rho_w
+            pairs_.density(view, row(i), &fluid, &wall);
+            double rho = mass_ * norm * (1 + double(fluid) + double(wall) * inv_rho0);
             if (use_walls) {
                 vec3 x{0, 0, 0};
                 for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
@@ -261,69 +272,32 @@ private:
             }
             rho_[i] = float(rho);
             p_[i] = pressure(float(rho));
+            position_[4 * i + 3] = rho_[i];
+            for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
             // The pressure term of the momentum equation, once per particle, not per pair.
-            p_over_rho2_[i] = p_[i] / (double(rho_[i]) * rho_[i]);
+            velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
         });
-        if (wall_particles)
-            walls_.extrapolate(x_.data(), p_.data(), rho_.data(), w_, this->scene_.gravity, threads_, prof,
-                               [&](double p) { return density_of(p); });
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
-        const bool laminar_viscosity = laminar();
-        const double alpha = laminar_viscosity ? 0 : prm_.alpha, nu = laminar_viscosity ? prm_.nu : 0;
-        const double h = h_, c0 = c0_, m = mass_, pb = prm_.background_pressure;
+        if (wall_particles) {
+            walls_.extrapolate(
+                threads_, prof,
+                [&](std::size_t w, const std::uint32_t* begin, const std::uint32_t* end) {
+                    return pairs_.extrapolation(view, w, begin, end, g);
+                },
+                [&](double p) { return density_of(p); });
+        }
+        // m dW/dr = m 6 norm / R g(q) (sph_pairs_impl.hpp).
+        const double slope = mass_ * 6 * norm / R, nu = laminar() ? prm_.nu : 0, pb = prm_.background_pressure;
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
-            const double pi_term = p_over_rho2_[i];
-            double acc[D] = {}, background[D] = {};
-            for (auto* it = neighbors_.begin(i); it != neighbors_.end(i); ++it) {
-                const std::size_t j = *it;
-                float r[D];  // x_j - x_i
-                const double len = this->dist(i, j, r);
-                if (len <= 0 || len >= R) continue;
-                // grad_i W = dW/dr (x_i - x_j) / r = -dW/dr r / len.
-                const double dw = w_.derivative(len);
-                double f = pi_term + p_over_rho2_[j];
-                double vr = 0;  // v_ij . x_ij
-                for (int a = 0; a < D; ++a) vr -= double(v_[i * D + a] - v_[j * D + a]) * r[a];
-                if (vr < 0 && alpha > 0) {
-                    const double mu = h * vr / (len * len + 0.01 * h * h);
-                    f += -alpha * c0 * mu / (0.5 * (double(rho_[i]) + rho_[j]));
-                }
-                // a_i = -m f grad_i W = m f dW/dr r / len.
-                const double s = m * f * dw / len;
-                for (int a = 0; a < D; ++a) acc[a] += s * r[a];
-                if (pb > 0) {
-                    const double sb = m * pb * (1 / (double(rho_[i]) * rho_[i]) + 1 / (double(rho_[j]) * rho_[j])) * dw / len;
-                    for (int a = 0; a < D; ++a) background[a] += sb * r[a];
-                }
-                if (nu > 0) {
-                    // x_ij . grad_i W = dW/dr len; (mu_i + mu_j) / (rho_i rho_j) = nu (1/rho_j + 1/rho_i).
-                    const double k = m * nu * (1 / double(rho_[i]) + 1 / double(rho_[j])) * dw * len /
-                                     (len * len + 0.01 * h * h);
-                    for (int a = 0; a < D; ++a) acc[a] += k * double(v_[i * D + a] - v_[j * D + a]);
-                }
-            }
-            // Wall particles at rest: the artificial viscosity with v_w = 0 holds the fluid
-            // back along the walls (no slip).
-            if (wall_particles)
-                for (auto* it = walls_.begin(i); it != walls_.end(i); ++it) {
-                    float r[D];  // x_w - x_i
-                    const double len = walls_.distance(*it, &x_[i * D], r);
-                    if (len <= 0 || len >= R) continue;
-                    const double rho_w = walls_.density(*it);
-                    double f = pi_term + walls_.pressure(*it) / (rho_w * rho_w);
-                    double vr = 0;  // v_iw . x_iw
-                    for (int a = 0; a < D; ++a) vr -= double(v_[i * D + a]) * r[a];
-                    if (vr < 0 && alpha > 0) {
-                        const double mu = h * vr / (len * len + 0.01 * h * h);
-                        f += -alpha * c0 * mu / (0.5 * (double(rho_[i]) + rho_w));
-                    }
-                    const double s = m * f * w_.derivative(len) / len;
-                    for (int a = 0; a < D; ++a) acc[a] += s * r[a];
-                }
+            float pressure_sum[D], laminar_sum[D], background_sum[D];
+            pairs_.forces(view, row(i), pressure_sum, laminar_sum, background_sum);
+            double acc[D];
+            for (int a = 0; a < D; ++a) acc[a] = slope * double(pressure_sum[a]) + slope * nu * double(laminar_sum[a]);
             if (use_walls && p_[i] > 0) {
                 vec3 x{0, 0, 0};
                 for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
                 // Mirror particles behind the wall with the particle's own pressure.
+                const double pi_term = velocity_[4 * i + 3];
                 for (const auto& c : walls)
                     c.for_each_wall(x, R, [&](double d, const vec3& nrm) {
                         const double s = -2 * pi_term * wall_density_ * psi_.derivative(d);
@@ -332,8 +306,24 @@ private:
             }
             for (int a = 0; a < D; ++a) acc_[i * D + a] = float(acc[a] + g[a]);
             if (pb > 0)
-                for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(background[a]);
+                for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(slope * pb * double(background_sum[a]));
         });
+    }
+
+    /// The arrays and constants of the pair passes (sph_pairs.hpp), this evaluation's.
+    sph_view pair_view(bool with_walls) const {
+        sph_view s;
+        s.position = position_.data(), s.velocity = velocity_.data(), s.pressure = p_.data();
+        s.box = this->periodic_ ? this->box_ : nullptr;
+        if (with_walls) s.wall = walls_.records(), s.wall_p_over_rho2 = walls_.pressure_terms();
+        s.support = float(2 * h_);
+        s.eps2 = float(0.01 * h_ * h_);
+        // Monaghan's Pi_ij = -alpha c0 h v_ij . x_ij / ((r^2 + 0.01 h^2) rho_bar_ij), for
+        // approaching pairs, is c v_ij . x_ij / ((r^2 + 0.01 h^2)(rho_i + rho_j)).
+        s.viscosity = laminar() ? 0.0f : float(-2 * std::max(prm_.alpha, 0.0) * c0_ * h_);
+        s.laminar = laminar() ? float(prm_.nu) : 0.0f;
+        s.background = float(prm_.background_pressure);
+        return s;
     }
 
     sph_params prm_;
@@ -343,16 +333,17 @@ private:
     double mass_ = 0, wall_density_ = 0, c0_ = 0, settle_rate_ = 0;
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
-    std::vector<double> p_over_rho2_;    // p / rho^2 per particle, this evaluation's
+    std::vector<float> position_, velocity_;  // per particle {x, rho}, {v, p / rho^2} (sph_pairs.hpp)
     bool have_acc_ = false;
     wall_particles<D> walls_;  // sph.wall_particles
+    sph_pair_kernels<D> pairs_;
 };
 
 }  // namespace
 
-std::unique_ptr<solver> make_sph(const scene& s, int threads) {
-    if (s.dim == 2) return std::make_unique<sph<2>>(s, threads);
-    return std::make_unique<sph<3>>(s, threads);
+std::unique_ptr<solver> make_sph(const scene& s, int threads, std::string_view level) {
+    if (s.dim == 2) return std::make_unique<sph<2>>(s, threads, level);
+    return std::make_unique<sph<3>>(s, threads, level);
 }
 
 }  // namespace detail

@@ -18,7 +18,6 @@
 #include "frnn/error.hpp"
 #include "frnn/grid.hpp"
 #include "frnn/sim/colliders.hpp"
-#include "frnn/sim/kernels.hpp"
 #include "frnn/sim/scene.hpp"
 #include "parallel.hpp"
 
@@ -73,8 +72,12 @@ public:
                     if (phi > 0 || phi <= -support) continue;
                     for (int a = 0; a < D; ++a) x_.push_back(float(x[a]));
                 }
-        p_.assign(size(), 0);
-        rho_.assign(size(), float(s.sph.rest_density));
+        p_over_rho2_.assign(size(), 0);
+        records_.assign(4 * size(), 0);
+        for (std::size_t k = 0; k < size(); ++k) {
+            for (int a = 0; a < D; ++a) records_[4 * k + std::size_t(a)] = x_[k * D + std::size_t(a)];
+            records_[4 * k + 3] = float(s.sph.rest_density);
+        }
         if (empty()) return;
         grid_options o;
         o.threads = threads;
@@ -101,42 +104,29 @@ public:
     const std::uint32_t* begin(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i]; }
     const std::uint32_t* end(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i + 1]; }
 
-    /// |x_w - x_i| for wall particle w and the point at x; r receives x_w - x.
-    double distance(std::size_t w, const float* x, float* r) const {
-        double d2 = 0;
-        for (int a = 0; a < D; ++a) {
-            r[a] = x_[w * D + a] - x[a];
-            d2 += double(r[a]) * r[a];
-        }
-        return std::sqrt(d2);
-    }
+    /// The wall particles' records {x, rho} (4 floats each, see neighbor_lanes.hpp) and p / rho^2.
+    const float* records() const { return records_.data(); }
+    const float* pressure_terms() const { return p_over_rho2_.data(); }
 
     /// p_w = max(0, (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf) over the
     /// fluid neighbors f, and rho_w = density_of(p_w), for the wall particles near the fluid
-    /// (the others keep theirs: no fluid particle sees them).
-    template <class Kernel, class DensityOf>
-    void extrapolate(const float* x, const float* p, const float* rho, const Kernel& w, const vec3& gravity,
-                     int threads, profiler& prof, DensityOf density_of) {
+    /// (the others keep theirs: no fluid particle sees them). sums(w, begin, end) gives the
+    /// three sums (wall_sums: the kernel's constant factor cancels) of wall particle w over its
+    /// fluid neighbors [begin, end), in ascending fluid index.
+    template <class Sums, class DensityOf>
+    void extrapolate(int threads, profiler& prof, Sums sums, DensityOf density_of) {
         parallel_for(active_.size(), threads, prof, stage::density, [&](std::size_t n) {
             const std::size_t k = active_[n];
-            double sum_w = 0, sum_p = 0, rise = 0;
-            for (std::uint64_t e = wall_fluid_offsets_[n]; e < wall_fluid_offsets_[n + 1]; ++e) {
-                const std::size_t f = wall_fluid_indices_[e];
-                float r[D];
-                const double weight = w(distance(k, x + f * D, r));
-                sum_w += weight;
-                sum_p += p[f] * weight;
-                for (int a = 0; a < D; ++a) rise += gravity[a] * rho[f] * double(r[a]) * weight;
-            }
+            const auto s = sums(k, wall_fluid_indices_.data() + wall_fluid_offsets_[n],
+                                wall_fluid_indices_.data() + wall_fluid_offsets_[n + 1]);
             // A fluid neighbor exactly at the support weighs 0: pressure 0 when it is the only one.
-            const double pressure = sum_w > 0 ? std::max(0.0, (sum_p + rise) / sum_w) : 0;
-            p_[k] = float(pressure);
-            rho_[k] = float(density_of(pressure));
+            const double sum_w = s.weight;
+            const double pressure = sum_w > 0 ? std::max(0.0, (double(s.pressure) + double(s.rise)) / sum_w) : 0;
+            const float p = float(pressure), rho = float(density_of(pressure));
+            records_[4 * k + 3] = rho;
+            p_over_rho2_[k] = float(double(p) / (double(rho) * rho));
         });
     }
-
-    float pressure(std::size_t w) const { return p_[w]; }
-    float density(std::size_t w) const { return rho_[w]; }
 
 private:
     /// The wall particles in fluid_walls_ (active_, ascending) and their rows of fluid
@@ -170,7 +160,8 @@ private:
     std::vector<float> x_;
     std::vector<char> holds_;
     grid<float, D> grid_;
-    std::vector<float> p_, rho_;
+    std::vector<float> p_over_rho2_;  ///< p / rho^2 per wall particle
+    std::vector<float> records_;      ///< {x, rho} per wall particle
     csr<float> fluid_walls_;
     std::vector<std::uint32_t> row_of_;  ///< per wall particle: its row among active_
     std::vector<std::uint32_t> active_;  ///< this step's wall particles with a fluid neighbor
