@@ -278,10 +278,7 @@ void query_on_vulkan(const query_args& a, io::point_set& data, io::point_set& qu
 void run_query(query_args a) {
     parse_radius(a);
     check_lattice_usage(a);
-    if (launched_by_mpirun()) {
-        if (!a.cell.empty()) throw error("--cell: the query in a lattice cell runs in one process, not under mpirun");
-        return run_query_mpi(a);
-    }
+    if (launched_by_mpirun()) return run_query_mpi(a);
     check_usage(a);
     if (!a.cell.empty()) {
         stopwatch read_clock;

@@ -51,6 +51,7 @@ void check_mpi_usage(const query_args& a) {
     if (a.grid != "auto") refuse("--grid", "each rank chooses its grid kind");
     if (a.cell_size != 0) refuse("--cell-size", "each rank's grid uses cells of the radius");
     if (!a.radius_file.empty()) refuse("--radius", "the distributed search takes one radius, not one per point");
+    if (!a.cell.empty()) refuse("--cell", "atoms in a lattice cell are searched in one process");
 }
 
 /// The ranks of an MPMD launch (mpirun -np 1 frnn ... : -np 1 frnn ...) could be given other

@@ -215,6 +215,8 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
     expect_failure(run_mpi(dir, 2, "query in.npy -r 1 --knn 3 -o out.npy"), 2,
                    "frnn: --knn: is not supported under mpirun");
     expect_failure(run_mpi(dir, 2, "query in.npy -r 1 --self"), 2, "frnn: --self: is not supported under mpirun");
+    expect_failure(run_mpi(dir, 2, "query in.npy -r 1 --cell 4,0,0,0,4,0,0,0,4 -o out.npy"), 2,
+                   "frnn: --cell: is not supported under mpirun");
     expect_failure(run_mpi(dir, 2, "query in.npy -r 1 -o missing/out.npy"), 1, "frnn: error: rank 0: missing/out.npy: cannot create");
     EXPECT_EQ(listing(dir), before) << "a failed run left files";
 }
