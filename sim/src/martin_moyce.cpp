@@ -2,6 +2,7 @@
 // the copy compiled in by sim/CMakeLists.txt, and the error of a simulated front.
 #include "frnn/sim/martin_moyce.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <sstream>
@@ -47,26 +48,43 @@ const std::vector<front_series>& martin_moyce() {
     return series;
 }
 
+namespace {
+
+// Z at T, linearly interpolated in `front` (sorted by T).
+double front_at(const std::vector<std::pair<double, double>>& front, double T) {
+    if (front.empty() || front.front().first > T || front.back().first < T)
+        throw error("front record does not cover T = " + std::to_string(T));
+    std::size_t k = 0;
+    while (front[k].first < T) ++k;  // front[k] is the first record at T or after
+    if (front[k].first == T) return front[k].second;
+    const auto& [t0, z0] = front[k - 1];
+    return z0 + (front[k].second - z0) * (T - t0) / (front[k].first - t0);
+}
+
+}  // namespace
+
 double front_error(const std::vector<std::pair<double, double>>& front, const front_series& series, double t_lo,
                    double t_hi) {
     double sum = 0;
     int count = 0;
     for (const auto& [T, Z] : series.points) {
         if (T < t_lo || T > t_hi) continue;
-        if (front.empty() || front.front().first > T || front.back().first < T)
-            throw error("front record does not cover T = " + std::to_string(T));
-        std::size_t k = 0;
-        while (front[k].first < T) ++k;  // front[k] is the first record at T or after
-        double z = front[k].second;
-        if (front[k].first > T) {
-            const auto& [t0, z0] = front[k - 1];
-            z = z0 + (front[k].second - z0) * (T - t0) / (front[k].first - t0);
-        }
-        sum += std::abs(z - Z) / Z;
+        sum += std::abs(front_at(front, T) - Z) / Z;
         ++count;
     }
     if (count == 0) throw error("no point of Martin & Moyce's series in the T range");
     return sum / count;
+}
+
+double front_difference(const std::vector<std::pair<double, double>>& coarse,
+                        const std::vector<std::pair<double, double>>& fine, double t_lo, double t_hi) {
+    const int n = std::max(1, int(std::lround((t_hi - t_lo) / 0.02)));
+    double sum = 0;
+    for (int k = 0; k <= n; ++k) {
+        const double T = t_lo + (t_hi - t_lo) * k / n, z = front_at(fine, T);
+        sum += std::abs(front_at(coarse, T) - z) / z;
+    }
+    return sum / (n + 1);
 }
 
 }  // namespace frnn::sim

@@ -1,10 +1,13 @@
 // The dam-break validation case: the shipped dam break in 2D with WCSPH at particle spacings
 // a/25, a/50 and a/100 (a the column width), its surge front against both series of Martin &
 // Moyce (1952). Figures: each series' error at each spacing (front_error) and, in the full
-// run, the finest spacing's error over the coarsest's (below 1 when the error falls).
+// run, the finest spacing's error over the coarsest's (below 1 when the error falls), the
+// self-convergence D of each spacing against the next (front_difference) and the observed
+// order log2 of the ratio of successive D.
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "frnn/error.hpp"
 #include "frnn/io/gnuplot.hpp"
@@ -86,6 +89,17 @@ case_output validate_dam_break(const case_context& context) {
                                          ", " + series_label(series[s]),
                                      runs.back().front_errors[s] / runs[0].front_errors[s]);
 
+    std::vector<double> difference;  // D(a/k, a/2k) of each spacing against the next
+    for (std::size_t r = 0; r + 1 < runs.size(); ++r) {
+        difference.push_back(front_difference(runs[r].front, runs[r + 1].front));
+        out.figures.emplace_back("D(a/" + std::to_string(spacings[r]) + ", a/" + std::to_string(spacings[r + 1]) + ")",
+                                 difference.back());
+    }
+    for (std::size_t r = 0; r + 1 < difference.size(); ++r)
+        out.figures.emplace_back("observed order, a/" + std::to_string(spacings[r]) + " to a/" +
+                                     std::to_string(spacings[r + 2]),
+                                 std::log2(difference[r] / difference[r + 1]));
+
     std::string why;
     const bool plotted = io::draw_with_gnuplot(front_plot(spacings, runs), 900, 560, context.dir + "/front.png", why);
     std::string& md = out.markdown;
@@ -113,6 +127,16 @@ case_output validate_dam_break(const case_context& context) {
         md += "\n";
     }
     md += "\n";
+    if (!difference.empty()) {
+        md += "Self-convergence: D(h1, h2), the mean of |Z_h1 - Z_h2| / Z_h2 over T = 0.5, 0.52, ..., 3:";
+        for (std::size_t r = 0; r < difference.size(); ++r) {
+            char part[96];
+            std::snprintf(part, sizeof part, "%s D(a/%d, a/%d) = %.2f%%", r ? "," : "", spacings[r], spacings[r + 1],
+                          100 * difference[r]);
+            md += part;
+        }
+        md += ".\n\n";
+    }
     return out;
 }
 

@@ -114,6 +114,18 @@ TEST(SimPhysics, FrontErrorOfTheReferenceItselfIsZero) {
     }
 }
 
+TEST(SimPhysics, FrontDifferenceIsTheMeanRelativeGapOnTheTGrid) {
+    // A front straight from (0, 1) to (4, 5), and one a quarter further: D = 0.25 / 1.25.
+    const std::vector<std::pair<double, double>> fine{{0, 1.25}, {4, 6.25}}, coarse{{0, 1}, {1, 2}, {4, 5}};
+    EXPECT_NEAR(front_difference(coarse, fine), 0.2, 1e-12);
+    EXPECT_NEAR(front_difference(fine, fine), 0.0, 1e-15);
+    // Only T in [0.5, 3] counts: a gap beyond it changes nothing.
+    const std::vector<std::pair<double, double>> late{{0, 1}, {3, 4}, {4, 9}};
+    EXPECT_NEAR(front_difference(late, fine), 0.2, 1e-12);
+    EXPECT_THROW(front_difference({{0, 1}, {2, 3}}, fine), frnn::error);  // ends before T = 3
+    EXPECT_THROW(front_difference(coarse, {{1, 2}, {4, 5}}), frnn::error);  // starts after T = 0.5
+}
+
 // The laminar viscosity (Morris et al. 1997) in a periodic box: a shear wave u_x = U sin(2 pi y)
 // keeps its shape (no pressure gradient: u_x depends on y only) and its amplitude decays as
 // exp(-nu (2 pi)^2 t), the solution of the diffusion equation it obeys.

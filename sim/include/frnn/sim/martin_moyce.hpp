@@ -27,4 +27,11 @@ inline constexpr double front_error_t_lo = 0.5, front_error_t_hi = 3.0;
 double front_error(const std::vector<std::pair<double, double>>& front, const front_series& series,
                    double t_lo = front_error_t_lo, double t_hi = front_error_t_hi);
 
+/// The self-convergence measure D(coarse, fine): the mean of |Z_coarse - Z_fine| / Z_fine over
+/// T = t_lo, t_lo + 0.02, ..., t_hi, both fronts (sorted by T) interpolated linearly. Throws
+/// frnn::error when either does not cover [t_lo, t_hi].
+double front_difference(const std::vector<std::pair<double, double>>& coarse,
+                        const std::vector<std::pair<double, double>>& fine, double t_lo = front_error_t_lo,
+                        double t_hi = front_error_t_hi);
+
 }  // namespace frnn::sim
