@@ -25,12 +25,15 @@ int main(int argc, char** argv) {
     // Only `frnn query` runs across ranks: any other command under a launcher of several ranks
     // would run one independent copy per rank (the same outputs written over each other).
     const std::string command = argc > 1 ? argv[1] : "";
+    // Rank 0 prints the message and fails the job; the other ranks end quietly with 0, since a
+    // rank that failed first would let the launcher kill rank 0 before its message is out.
     if (command != "query" && command.rfind("-", 0) != 0 && frnn::app::launcher_ranks() > 1) {
-        if (frnn::app::launcher_rank() == 0)
-            std::fprintf(stderr,
-                         "frnn: %s runs in one process, but an MPI launcher started %ld ranks (each would run its own "
-                         "copy): run it without mpirun; only `frnn query` runs across ranks\n",
-                         command.c_str(), frnn::app::launcher_ranks());
+        if (frnn::app::launcher_rank() != 0) return 0;
+        std::fprintf(stderr,
+                     "frnn: %s runs in one process, but an MPI launcher started %ld ranks (each would run its own "
+                     "copy): run it without mpirun; only `frnn query` runs across ranks\n",
+                     command.c_str(), frnn::app::launcher_ranks());
+        std::fflush(stderr);
         return 1;
     }
     try {
