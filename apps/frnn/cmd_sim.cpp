@@ -9,6 +9,8 @@
 
 #include "command.hpp"
 #include "contend_options.hpp"
+#include "launcher.hpp"
+#include "sim_mpi.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/run.hpp"
 #include "frnn/sim/scene.hpp"
@@ -38,6 +40,7 @@ void run_sim(const sim_args& a) {
     opt.video = a.video;
     opt.progress = !a.quiet;
     if (!a.resume.empty()) {
+        if (launcher_ranks() > 1) throw frnn::error("--resume runs in one process only, not across ranks yet");
         if (!a.scene_file.empty() || !a.scene_name.empty() || !a.solver.empty() || a.dim || a.particles || a.steps ||
             a.time >= 0 || a.every)
             throw CLI::ValidationError("--resume", "continues a run with its own scene; give no scene options with it");
@@ -46,19 +49,6 @@ void run_sim(const sim_args& a) {
     }
     if (!a.scene_file.empty() && !a.scene_name.empty())
         throw CLI::ValidationError("--scene", "give either a scene file or --scene, not both");
-    std::string text, origin;
-    if (!a.scene_file.empty()) {
-        std::ifstream in(a.scene_file, std::ios::binary);
-        if (!in) throw frnn::error("cannot open scene file '" + a.scene_file + "'");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        text = ss.str();
-        origin = a.scene_file;
-    } else {
-        const std::string name = a.scene_name.empty() ? "dam-break" : a.scene_name;
-        text = sim::builtin_scene_text(name);
-        origin = "scene " + name;
-    }
     sim::scene_overrides ov;
     if (!a.solver.empty()) ov.solver = a.solver == "sph" ? sim::solver_kind::sph : sim::solver_kind::viscoelastic;
     if (a.dim) ov.dim = a.dim;
@@ -66,7 +56,26 @@ void run_sim(const sim_args& a) {
     if (a.steps) ov.steps = a.steps;
     if (a.time >= 0) ov.duration = a.time;
     if (a.every) ov.every = a.every;
-    sim::run(text, origin, ov, opt);
+    const auto run = [&](const sim::run_options& o) {
+        std::string text, origin;
+        sim::on_every_rank(o.ranks, [&] {  // a node that cannot read the file stops every rank
+            if (!a.scene_file.empty()) {
+                std::ifstream in(a.scene_file, std::ios::binary);
+                if (!in) throw frnn::error("cannot open scene file '" + a.scene_file + "'");
+                std::stringstream ss;
+                ss << in.rdbuf();
+                text = ss.str();
+                origin = a.scene_file;
+            } else {
+                const std::string name = a.scene_name.empty() ? "dam-break" : a.scene_name;
+                text = sim::builtin_scene_text(name);
+                origin = "scene " + name;
+            }
+        });
+        sim::run(text, origin, ov, o);
+    };
+    if (launcher_ranks() > 1) return run_sim_across_ranks(opt, run);
+    run(opt);
 }
 
 const register_command reg{"sim", [](CLI::App& app) {

@@ -22,22 +22,10 @@
 #include "command.hpp"
 #include "mpi_input.hpp"
 #include "mpi_output.hpp"
+#include "mpi_session.hpp"
 
 namespace frnn::app {
 namespace {
-
-/// MPI for the life of a distributed query. MPI calls come from the main thread only (the
-/// local grid's threads never call MPI).
-class mpi_session {
-public:
-    mpi_session() {
-        int provided = 0;
-        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-    }
-    ~mpi_session() { MPI_Finalize(); }
-    mpi_session(const mpi_session&) = delete;
-    mpi_session& operator=(const mpi_session&) = delete;
-};
 
 /// What the distributed path cannot do: refused before MPI starts, alike on every rank.
 void check_mpi_usage(const query_args& a) {

@@ -16,6 +16,7 @@
 #include "frnn/parallel.hpp"
 #include "frnn/sim/parameters.hpp"
 #include "frnn/sim/solver.hpp"
+#include "distribution.hpp"
 #include "neighbors.hpp"
 #include "parallel.hpp"
 
@@ -76,8 +77,27 @@ public:
     }
 
     particle_view view() const override {
+        if (dist_ && !gathered_.empty()) {
+            const auto& f = gathered_;
+            return {D, gathered_id_.size(), f[0].data(), f[1].data(), f[2].data(), f[3].data(), gathered_id_.data()};
+        }
         return {D, n_, x_.data(), v_.data(), rho_.data(), p_.data(), id_.data()};
     }
+
+    void set_ranks(std::shared_ptr<rank_comm> ranks) override {
+        if (periodic_) throw ranks_agree_error("a periodic domain runs in one process only, not across ranks yet");
+        if (built_) throw error("set_ranks: call it before the first step");
+        dist_ = std::make_unique<distribution<D>>(std::move(ranks));
+    }
+
+    void gather() override {
+        if (!dist_ || !built_) return;  // before the first step every rank holds every particle
+        std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&rho_, 1}, {&p_, 1}};
+        for (const carried_field& f : extra_fields()) fields.push_back(f);
+        dist_->gather(fields, id_, gathered_, gathered_id_);
+        loads_ = dist_->loads();
+    }
+    std::vector<rank_load> rank_loads() const override { return loads_; }
     double time() const override { return time_; }
     std::uint64_t steps() const override { return steps_; }
     double last_dt() const override { return last_dt_; }
@@ -113,11 +133,18 @@ public:
 protected:
     /// Called after set_parameters() changed scene_: the solver copies what it reads per step.
     virtual void parameters_changed() = 0;
+    /// The solver's own per-particle state that a checkpoint holds (across ranks, gather()
+    /// brings it to rank 0 after x, v, rho and p: gathered_[4], ...).
+    virtual std::vector<carried_field> extra_fields() { return {}; }
+
+    /// Whether particle i is this rank's (always in one process; not a ghost across ranks).
+    bool owned(std::size_t i) const { return !dist_ || !dist_->ghost(i); }
 
     /// Builds (first call) or rebuilds the grid over x and permutes x and every extra array
     /// (components per particle given with it) into cell order.
     template <class... Arrays>
     void rebuild_grid(profiler& prof, double radius, Arrays&... arrays) {
+        if (dist_) return rebuild_distributed(prof, radius, arrays...);
         serial(prof, stage::grid, [&] {
             try {
                 build_or_rebuild(radius);
@@ -129,6 +156,33 @@ protected:
             grid_.reorder(std::span<float>(v_), D);
             grid_.reorder(std::span<std::uint32_t>(id_), 1);
             (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+        });
+        neighbors_.build(grid_, prof);
+    }
+
+    /// rebuild_grid across ranks: the particles move to their ranks and the ghosts come in
+    /// (distribution.hpp) before the grid sorts them.
+    template <class... Arrays>
+    void rebuild_distributed(profiler& prof, double radius, Arrays&... arrays) {
+        serial(prof, stage::grid, [&] {
+            if (!built_) build_or_rebuild(radius);  // the scene's cells; every rank holds every particle
+            std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, arrays.size() / n_}...};
+            dist_->redistribute(grid_.geometry(), fields, id_);
+            n_ = id_.size();
+            try {
+                grid_.rebuild(std::span<const float>(x_));
+            } catch (const error&) {
+                check_finite(steps_ + 1);
+                throw;
+            }
+            grid_.reorder(std::span<float>(x_), D);
+            grid_.reorder(std::span<float>(v_), D);
+            grid_.reorder(std::span<std::uint32_t>(id_), 1);
+            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+            dist_->reorder(grid_);
+            dist_->sorted(grid_, x_);
+            rho_.resize(n_);
+            p_.resize(n_);
         });
         neighbors_.build(grid_, prof);
     }
@@ -207,16 +261,25 @@ protected:
             return true;
         };
         const std::size_t bad = reduce(
-            n_, threads_, n_, [&](std::size_t i) { return finite(i) ? n_ : i; },
+            n_, threads_, n_, [&](std::size_t i) { return finite(i) || !owned(i) ? n_ : i; },
             [](std::size_t a, std::size_t b) { return std::min(a, b); });
+        std::string what = diverged_message(step, bad);
+        // Across ranks, the particle first in the one-process order, on every rank.
+        if (dist_) what = dist_->first_found(bad < n_ ? &dist_->key(bad) : nullptr, what);
+        if (what.empty()) return;
+        if (dist_) throw ranks_agree_error(what);
+        throw error(what);
+    }
+    std::string diverged_message(std::uint64_t step, std::size_t bad) const {
         if (bad < n_) {
             std::string what = "simulation diverged at step " + std::to_string(step) + " (t = " + std::to_string(time_) +
                                " s): particle " + std::to_string(id_[bad]) + " has position (";
             for (int a = 0; a < D; ++a) what += (a ? ", " : "") + std::to_string(x_[bad * D + a]);
             what += ") and velocity (";
             for (int a = 0; a < D; ++a) what += (a ? ", " : "") + std::to_string(v_[bad * D + a]);
-            throw error(what + "); try a smaller time step");
+            return what + "); try a smaller time step";
         }
+        return {};
     }
 
     void save_common(std::ostream& o) const {
@@ -224,6 +287,12 @@ protected:
         write_pod(o, time_);
         write_pod(o, steps_);
         write_pod(o, last_dt_);
+        if (dist_) {  // rank 0's gathered particles, as one process holds them
+            write_pod(o, std::uint64_t(gathered_id_.size()));
+            for (std::size_t f = 0; f < 4; ++f) write_vec(o, gathered_[f]);
+            write_vec(o, gathered_id_);
+            return;
+        }
         write_pod(o, std::uint64_t(n_));
         write_vec(o, x_);
         write_vec(o, v_);
@@ -232,6 +301,7 @@ protected:
         write_vec(o, id_);
     }
     void load_common(std::istream& in) {
+        if (dist_) throw ranks_agree_error("--resume runs in one process only, not across ranks yet");
         std::uint32_t d = 0;
         std::uint64_t n = 0;
         read_pod(in, d);
@@ -305,6 +375,10 @@ protected:
     bool periodic_ = false;
     float box_[D] = {};  // periodic box lengths (0 on open axes)
     neighbor_table neighbors_;
+    std::unique_ptr<distribution<D>> dist_;  // across ranks (set_ranks); null in one process
+    std::vector<std::vector<float>> gathered_;  // gather(): x, v, rho, p, then extra_fields()
+    std::vector<std::uint32_t> gathered_id_;
+    std::vector<rank_load> loads_;
 };
 
 }  // namespace frnn::sim::detail

@@ -11,6 +11,8 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -175,6 +177,11 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
     summary["steps_this_run"] = this_run;
     summary["simulated_seconds"] = res.sim_time;
     summary["threads"] = threads;
+    if (const auto loads = sol.rank_loads(); !loads.empty()) {
+        json per_rank = json::array();
+        for (const auto& l : loads) per_rank.push_back({{"particles", l.particles}, {"ghosts", l.ghosts}});
+        summary["ranks"] = {{"count", loads.size()}, {"per_rank", per_rank}};
+    }
     summary["spacing"] = sol.spacing();
     summary["radius"] = sol.radius();
     summary["rest_density"] = sol.rest_density();
@@ -214,9 +221,10 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
 // The lines and the per-stage table printed at the end of a run.
 void print_report(const scene& sc, profiler& prof, const run_result& res, const run_options& opt, int threads,
                   const std::string& dir) {
-    std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads\n", sc.name.c_str(),
+    std::printf("%s: %zu particles, %s %dD, %llu steps, %.3f s simulated in %.2f s on %d threads%s\n", sc.name.c_str(),
                 res.particles, to_string(sc.solver).c_str(), sc.dim, (unsigned long long)res.steps, res.sim_time,
-                res.wall_seconds, threads);
+                res.wall_seconds, threads,
+                opt.ranks && opt.ranks->size() > 1 ? (" per rank, " + std::to_string(opt.ranks->size()) + " ranks").c_str() : "");
     if (res.wall_particles > 0) std::printf("walls: %zu wall particles\n", res.wall_particles);
     if (opt.load.set) std::printf("%s", load_line(prof, opt.load).c_str());
     std::printf("%s", prof.table(bool(opt.load.set)).c_str());
@@ -232,6 +240,8 @@ void print_report(const scene& sc, profiler& prof, const run_result& res, const 
 
 run_result execute(run_state& st, solver& sol, const run_options& opt, const std::string& dir, bool resumed) {
     const scene& sc = sol.get_scene();
+    // Across ranks, rank 0 writes and prints; every rank calls gather() at the same points.
+    const bool root = !opt.ranks || opt.ranks->rank() == 0;
     const int threads = resolve_thread_count(opt.threads);
     profiler prof(!opt.trace_path.empty(), threads);
     const double g = std::sqrt(sc.gravity[0] * sc.gravity[0] + sc.gravity[1] * sc.gravity[1] + sc.gravity[2] * sc.gravity[2]);
@@ -252,8 +262,13 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
 
     auto write_frame = [&] {
         const stage_timer timer(prof, stage::output);
+        sol.gather();
         const particle_view v = sol.view();
         const std::size_t k = st.frames.size();
+        if (!root) {
+            st.frames.emplace_back(sol.time(), "");
+            return;
+        }
         if (opt.write_frames) {
             write_vtp(dir + "/frames/" + frame_name(k, "vtp"), v);
             st.frames.emplace_back(sol.time(), "frames/" + frame_name(k, "vtp"));
@@ -268,6 +283,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         if (!sc.front.enabled) return;
         const double T = sol.time() * std::sqrt(2 * g / sc.front.a);
         if (T + 1e-12 < st.next_front_T) return;
+        sol.gather();
         st.front.emplace_back(T, front_Z(sol.view(), sc.front, sol.spacing()));
         while (st.next_front_T <= T + 1e-12) st.next_front_T += sc.front.every_T;
     };
@@ -310,7 +326,8 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
             write_frame();
             if (++frames_since_checkpoint >= std::size_t(sc.output.checkpoint_every) && !done()) {
                 const stage_timer timer(prof, stage::output);
-                save_checkpoint(dir, st, sol);
+                sol.gather();
+                if (root) save_checkpoint(dir, st, sol);
                 frames_since_checkpoint = 0;
             }
         }
@@ -323,8 +340,9 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         opt.load.set(false);
     }
 
+    sol.gather();
     run_result res = result_of(sol, prof, st, dir, wall, !interrupted);
-    if (interrupted) return res;
+    if (interrupted || !root) return res;
 
     save_checkpoint(dir, st, sol);
     write_summary(dir, sol, prof, st, res, opt, threads, this_run, resumed);
@@ -356,22 +374,30 @@ void prepare_dir(const std::string& dir, const run_options& opt, bool fresh) {
 
 run_result run(const std::string& scene_json, const std::string& origin, const scene_overrides& overrides, const run_options& opt) {
     run_state st{scene_json, origin, overrides, {}, 0, {}, 0};
-    scene sc = parse_scene(scene_json, origin);
-    apply(sc, overrides);
-    auto sol = make_solver(sc, opt.threads);
+    const bool root = !opt.ranks || opt.ranks->rank() == 0;
+    scene sc;
+    std::unique_ptr<solver> sol;
     std::string dir = opt.out_dir;
-    if (dir.empty()) {
-        dir = "sim-" + sc.name + "-" + to_string(sc.solver) + "-" + std::to_string(sc.dim) + "d-" + timestamp();
-        for (int k = 2; fs::exists(dir); ++k) dir = dir.substr(0, dir.rfind("~")) + "~" + std::to_string(k);
-    }
-    prepare_dir(dir, opt, true);
-    if (opt.progress)
+    on_every_rank(opt.ranks, [&] {
+        sc = parse_scene(scene_json, origin);
+        apply(sc, overrides);
+        sol = make_solver(sc, opt.threads);
+        if (opt.ranks && opt.ranks->size() > 1) sol->set_ranks(opt.ranks);
+        if (!root) return;
+        if (dir.empty()) {
+            dir = "sim-" + sc.name + "-" + to_string(sc.solver) + "-" + std::to_string(sc.dim) + "d-" + timestamp();
+            for (int k = 2; fs::exists(dir); ++k) dir = dir.substr(0, dir.rfind("~")) + "~" + std::to_string(k);
+        }
+        prepare_dir(dir, opt, true);
+    });
+    if (opt.progress && root)
         std::fprintf(stderr, "frnn sim: %s, %s %dD, %zu particles (spacing %.4g, radius %.4g) -> %s\n", sc.name.c_str(),
                      to_string(sc.solver).c_str(), sc.dim, sol->view().n, sol->spacing(), sol->radius(), dir.c_str());
     return execute(st, *sol, opt, dir, false);
 }
 
 run_result resume(const std::string& dir, const run_options& opt) {
+    if (opt.ranks && opt.ranks->size() > 1) throw ranks_agree_error("--resume runs in one process only, not across ranks yet");
     std::ifstream in(dir + "/checkpoint.bin", std::ios::binary);
     if (!in) throw error("--resume: no checkpoint in '" + dir + "' (expected " + dir + "/checkpoint.bin)");
     run_state st = detail::read_checkpoint_header(in, "--resume: '" + dir + "/checkpoint.bin'");

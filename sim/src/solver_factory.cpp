@@ -8,6 +8,11 @@
 
 namespace frnn::sim {
 
+void solver::set_ranks(std::shared_ptr<rank_comm>) {
+    throw ranks_agree_error("the " + to_string(get_scene().solver) +
+                            " solver runs in one process only (across ranks: --solver sph)");
+}
+
 std::unique_ptr<solver> make_solver(const scene& s, int threads) {
     if (s.dim != 2 && s.dim != 3) throw error("scene '" + s.name + "': dim must be 2 or 3, got " + std::to_string(s.dim));
     return s.solver == solver_kind::sph ? detail::make_sph(s, threads) : detail::make_viscoelastic(s, threads);

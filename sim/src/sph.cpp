@@ -100,8 +100,8 @@ public:
 
     void save(std::ostream& o) const override {
         this->save_common(o);
-        write_vec(o, acc_);
-        write_vec(o, background_acc_);
+        write_vec(o, this->dist_ ? this->gathered_[4] : acc_);
+        write_vec(o, this->dist_ ? this->gathered_[5] : background_acc_);
         write_pod(o, std::uint8_t(have_acc_));
     }
     void load(std::istream& in) override {
@@ -115,6 +115,11 @@ public:
 
     std::size_t wall_particle_count() const override { return walls_.size(); }
 
+    void set_ranks(std::shared_ptr<rank_comm> ranks) override {
+        if (!walls_.empty()) throw ranks_agree_error("wall particles run in one process only, not across ranks yet");
+        base::set_ranks(std::move(ranks));
+    }
+
     void set_colliders(const std::vector<collider>& colliders) override {
         base::set_colliders(colliders);
         seed_walls();
@@ -122,6 +127,7 @@ public:
 
 private:
     void parameters_changed() override { prm_ = this->scene_.sph; }
+    std::vector<carried_field> extra_fields() override { return {{&acc_, D}, {&background_acc_, D}}; }
     bool laminar() const { return prm_.viscosity == sph_params::viscosity_t::laminar; }
 
     void finish(profiler& prof, double dt) {
@@ -135,21 +141,23 @@ private:
     /// CFL condition on sound speed plus flow speed, and the force condition.
     double time_step() const {
         // Both largest squared lengths in one parallel loop (a max is exact in any order).
-        const auto [vmax2, amax2] = reduce(
+        auto [vmax2, amax2] = reduce(
             n_, threads_, std::pair<double, double>(0, 0),
             [&](std::size_t i) {
                 double v2 = 0, a2 = 0;
+                if (!this->owned(i)) return std::pair<double, double>(0, 0);  // a ghost's forces are not computed
                 for (int a = 0; a < D; ++a) v2 += double(v_[i * D + a]) * v_[i * D + a], a2 += double(acc_[i * D + a]) * acc_[i * D + a];
                 return std::pair<double, double>(v2, a2);
             },
             [](const std::pair<double, double>& l, const std::pair<double, double>& r) {
                 return std::pair<double, double>(std::max(l.first, r.first), std::max(l.second, r.second));
             });
+        if (this->dist_) vmax2 = this->dist_->max(vmax2), amax2 = this->dist_->max(amax2);
         double dt = std::min(prm_.max_dt, prm_.cfl * h_ / (c0_ + std::sqrt(vmax2)));
         if (amax2 > 0) dt = std::min(dt, 0.25 * std::sqrt(h_ / std::sqrt(amax2)));
         if (laminar() && prm_.nu > 0) dt = std::min(dt, 0.125 * h_ * h_ / prm_.nu);
         if (dt < 1e-3 * std::min(prm_.max_dt, prm_.cfl * h_ / c0_))
-            throw error("simulation unstable at step " + std::to_string(this->steps_ + 1) + ": a particle moves at " +
+            throw ranks_agree_error("simulation unstable at step " + std::to_string(this->steps_ + 1) + ": a particle moves at " +
                         std::to_string(std::sqrt(vmax2)) + " m/s, the time step collapsed to " + std::to_string(dt) + " s");
         return dt;
     }
@@ -238,6 +246,8 @@ private:
         // Leapfrog's next drift reads the background accelerations of this evaluation.
         if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
         else this->rebuild_grid(prof, 2 * h_, acc_);
+        position_.resize(4 * n_);  // across ranks, n_ changes every step
+        velocity_.resize(4 * n_);
         const bool wall_particles = !walls_.empty();
         if (wall_particles) walls_.find(std::span<const float>(x_), prof);
         // Colliders that are not wall particles count by the kernel's integral over them.
@@ -277,6 +287,7 @@ private:
             // The pressure term of the momentum equation, once per particle, not per pair.
             velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
         });
+        if (this->dist_) refresh_ghosts();
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         if (wall_particles) {
             walls_.extrapolate(
@@ -308,6 +319,17 @@ private:
             if (pb > 0)
                 for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(slope * pb * double(background_sum[a]));
         });
+    }
+
+    /// Across ranks: the ghosts' density and pressure from their owners, where a ghost's own
+    /// row lacks the neighbors beyond this rank's halo, and the records the forces read.
+    void refresh_ghosts() {
+        this->dist_->refresh({&rho_, &p_});
+        for (std::size_t i = 0; i < n_; ++i) {
+            if (this->owned(i)) continue;
+            position_[4 * i + 3] = rho_[i];
+            velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
+        }
     }
 
     /// The arrays and constants of the pair passes (sph_pairs.hpp), this evaluation's.

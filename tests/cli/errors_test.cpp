@@ -66,10 +66,13 @@ TEST_F(cli_errors, usage_errors_exit_2) {
 // than query refuse several ranks: rank 0 prints the message and exits 1, the others end quietly.
 TEST_F(cli_errors, several_launcher_ranks_are_refused_outside_query) {
     const auto first = run_command(dir, "OMPI_COMM_WORLD_SIZE=4 OMPI_COMM_WORLD_RANK=0 '" FRNN_TOOL_PATH
-                                        "' sim --steps 1 --out run");
+                                        "' bench --workload W1");
     EXPECT_EQ(first.code, 1);
-    EXPECT_EQ(first.err, "frnn: sim runs in one process, but an MPI launcher started 4 ranks (each would run its "
-                         "own copy): run it without mpirun; only `frnn query` runs across ranks\n");
+    EXPECT_EQ(first.err.rfind("frnn: bench runs in one process, but an MPI launcher started 4 ranks (each would run "
+                              "its own copy): run it without mpirun; only `frnn query`",
+                              0),
+              0u)
+        << first.err;
     const auto other = run_command(dir, "PMI_SIZE=2 PMI_RANK=1 '" FRNN_TOOL_PATH "' validate --quick");
     EXPECT_EQ(other.code, 0) << "rank 0 alone fails the job";
     EXPECT_TRUE(other.err.empty()) << "only rank 0 speaks: " << other.err;

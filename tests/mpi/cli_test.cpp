@@ -226,8 +226,7 @@ TEST(MpiCli, BadInputStopsEveryRankWithOneMessage) {
 TEST(MpiCli, SingleProcessCommandsRefuseSeveralRanks) {
     const scratch_dir dir("mpi_cli_single");
     const std::vector<std::string> before = listing(dir);
-    expect_failure(run_mpi(dir, 2, "sim --particles 300 --steps 2 --out run"), 1,
-                   "frnn: sim runs in one process, but an MPI launcher started 2 ranks");
+    expect_failure(run_mpi(dir, 2, "view --scene droplet"), 1, "frnn: view runs in one process, but an MPI launcher started 2 ranks");
     expect_failure(run_mpi(dir, 3, "validate --quick"), 1, "frnn: validate runs in one process, but an MPI launcher started 3");
     expect_failure(run_mpi(dir, 2, "bench --workload W1 --n 1000"), 1, "frnn: bench runs in one process");
     EXPECT_EQ(listing(dir), before) << "a refused run left files";
@@ -235,6 +234,86 @@ TEST(MpiCli, SingleProcessCommandsRefuseSeveralRanks) {
     const auto one = run_mpi(dir, 1, "sim --particles 300 --steps 2 --quiet --out run");
     EXPECT_EQ(one.code, 0) << one.err;
     EXPECT_TRUE(std::filesystem::exists(dir / "run" / "summary.json"));
+}
+
+/// summary.json without what may differ between runs: timings, threads and the ranks.
+nlohmann::json summary_without_timings(const std::filesystem::path& file) {
+    nlohmann::json j = nlohmann::json::parse(read_bytes(file));
+    for (const char* key : {"wall_seconds", "mean_ms_per_step", "mean_process_cpu_ms_per_step", "step_ms_without_output",
+                            "threads", "ranks"})
+        j.erase(key);
+    return j;
+}
+
+// One WCSPH simulation across ranks writes the one-process run's frames and checkpoint, byte
+// for byte, at any rank and thread count; each rank holds a part of the particles.
+TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
+    const scratch_dir dir("mpi_cli_sim");
+    // A dam break in an open tank (walls by the kernel's integral, no wall particles): the
+    // column runs along the cut axis, so particles move between ranks every few steps.
+    write_bytes(dir / "open-dam-break.json", R"({"name": "open-dam-break", "solver": "sph", "dim": 2,
+        "particles": {"2d": 1500, "3d": 4000}, "duration": 1, "gravity": [0, -9.81, 0],
+        "domain": {"min": [0, 0, 0], "max": [2, 1, 1]},
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.25, 0.5, 1]}],
+        "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
+        "sph": {"alpha": 0.3, "cfl": 0.4}, "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
+    struct scene_case {
+        const char* options;
+        std::size_t frames;  // the first, then one every `--every` steps
+        std::vector<std::pair<int, int>> ranks_threads;
+    };
+    const std::vector<scene_case> cases = {
+        {"open-dam-break.json --steps 400 --every 100", 5, {{2, 2}, {3, 1}, {4, 1}}},
+        {"--scene droplet --solver sph --dim 3 --particles 2000 --steps 24 --every 12", 3, {{2, 1}}},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.options);
+        const std::string common = std::string("sim ") + c.options + " --quiet";
+        const auto one = run_command(dir, tool + " " + common + " --threads 1 --out one");
+        ASSERT_EQ(one.code, 0) << one.err;
+        if (std::string(c.options).find("dam-break") != std::string::npos)
+            ASSERT_TRUE(std::filesystem::exists(dir / "one" / "front.csv"));
+        const std::size_t particles = summary_without_timings(dir / "one" / "summary.json")["particles"].get<std::size_t>();
+        for (const auto& [ranks, threads] : c.ranks_threads) {
+            SCOPED_TRACE(std::to_string(ranks) + " ranks of " + std::to_string(threads) + " threads");
+            const std::string out = "ranks" + std::to_string(ranks);
+            const auto r = run_mpi(dir, ranks, common + " --threads " + std::to_string(threads) + " --out " + out);
+            ASSERT_EQ(r.code, 0) << r.err;
+            std::size_t frames = 0;
+            for (const auto& e : std::filesystem::directory_iterator(dir / "one" / "frames")) {
+                const auto name = e.path().filename();
+                EXPECT_TRUE(read_bytes(e.path()) == read_bytes(dir / out / "frames" / name)) << name << " differs";
+                ++frames;
+            }
+            EXPECT_EQ(frames, c.frames);
+            for (const char* file : {"checkpoint.bin", "particles.pvd", "front.csv"})
+                EXPECT_TRUE(read_bytes(dir / "one" / file) == read_bytes(dir / out / file)) << file << " differs";
+            EXPECT_EQ(summary_without_timings(dir / "one" / "summary.json"), summary_without_timings(dir / out / "summary.json"));
+            const nlohmann::json summary = nlohmann::json::parse(read_bytes(dir / out / "summary.json"));
+            ASSERT_EQ(summary["ranks"]["per_rank"].size(), std::size_t(ranks)) << summary.dump();
+            std::size_t sum = 0;
+            for (const auto& rank : summary["ranks"]["per_rank"]) {
+                EXPECT_GT(rank["particles"].get<std::size_t>(), 0u) << summary.dump();
+                EXPECT_GT(rank["ghosts"].get<std::size_t>(), 0u) << summary.dump();
+                sum += rank["particles"].get<std::size_t>();
+            }
+            EXPECT_EQ(sum, particles);
+        }
+    }
+}
+
+// What does not run across ranks yet stops every rank with one message, before any file.
+TEST(MpiCli, SimAcrossRanksRefusesWhatItCannotRunYet) {
+    const scratch_dir dir("mpi_cli_sim_refusals");
+    const std::vector<std::string> before = listing(dir);
+    expect_failure(run_mpi(dir, 2, "sim --steps 2 --out run"), 1,
+                   "frnn: error: the viscoelastic solver runs in one process only (across ranks: --solver sph)");
+    expect_failure(run_mpi(dir, 3, "sim --scene dam-break --solver sph --dim 2 --steps 2 --out run"), 1,
+                   "frnn: error: wall particles run in one process only, not across ranks yet");
+    expect_failure(run_mpi(dir, 2, "sim missing.json --out run"), 1, "frnn: error: cannot open scene file 'missing.json'");
+    expect_failure(run_mpi(dir, 2, "sim --resume run"), 1, "frnn: error: --resume runs in one process only");
+    expect_failure(run_mpi(dir, 2, "sim --scene droplet --bogus"), 2, "frnn: The following argument was not expected: --bogus");
+    EXPECT_EQ(listing(dir), before) << "a refused run left files";
 }
 
 TEST(MpiCli, AKilledRankEndsTheJob) {

@@ -8,10 +8,12 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "frnn/sim/ranks.hpp"
 #include "frnn/sim/scene.hpp"
 
 namespace frnn::sim {
@@ -37,6 +39,9 @@ struct run_options {
     bool print_table = true;     ///< the per-stage table on stdout at the end
     std::uint64_t stop_after = 0;  ///< stop (as if interrupted) after this many steps of this run
     load_hook load;              ///< steps under an outside load in blocks; none by default
+    /// The ranks this run spans (frnn/sim/ranks.hpp); none, or one rank: one process. Across
+    /// several, every rank calls run() alike: rank 0 alone writes the output folder and prints.
+    std::shared_ptr<rank_comm> ranks;
 };
 
 struct run_result {

@@ -19,6 +19,7 @@
 
 #include "frnn/grid_geometry.hpp"
 #include "frnn/sim/profiler.hpp"
+#include "frnn/sim/ranks.hpp"
 #include "frnn/sim/scene.hpp"
 
 namespace frnn::sim {
@@ -71,6 +72,21 @@ public:
     virtual const grid_geometry<float>& geometry() const = 0;
     /// Wall particles standing in for colliders (WCSPH's wall_particles); 0 for none.
     virtual std::size_t wall_particle_count() const { return 0; }
+    /// Runs this simulation as one of several ranks (frnn/sim/ranks.hpp), before its first
+    /// step: each rank keeps the particles of its part of the domain, and every step gives the
+    /// one-process result bit for bit. Throws frnn::ranks_agree_error for what does not run
+    /// across ranks yet (only WCSPH in an open domain without wall particles does).
+    virtual void set_ranks(std::shared_ptr<rank_comm> ranks);
+    /// Across ranks, a collective call that brings every rank's particles to rank 0, in the
+    /// one-process order, for view() and save() there (the other ranks' view is then empty);
+    /// nothing in one process.
+    virtual void gather() {}
+    /// Across ranks, per rank at the last gather(): its particles and its ghosts (copies of
+    /// other ranks' particles within reach of its part); empty in one process.
+    struct rank_load {
+        std::size_t particles = 0, ghosts = 0;
+    };
+    virtual std::vector<rank_load> rank_loads() const { return {}; }
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.

@@ -1,0 +1,326 @@
+// One simulation over several ranks (frnn/sim/ranks.hpp), with the one-process result bit for
+// bit. Each rank owns the particles in a slab of the one-process grid's cell planes along one
+// axis, and holds copies (ghosts) of the particles in the `reach` planes on each side of it.
+//
+// Why the neighbor rows come out the same: the one-process arrays are in cell order, and a
+// cell's particles keep the previous step's order (the grid's counting sort is stable). So each
+// particle carries its key in that order, (its cell's slot, its rank inside the cell), and a
+// rank sorts its particles and ghosts by key before its grid sorts them by cell: each owned
+// particle's row then lists the particles of the one-process row in the same order. A cell
+// lies wholly on one rank, whose grid numbers its particles for the next step's keys.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "frnn/grid.hpp"
+#include "frnn/sim/ranks.hpp"
+#include "frnn/sim/solver.hpp"
+
+namespace frnn::sim::detail {
+
+/// A per-particle float array that travels with the particles: `components` values each.
+struct carried_field {
+    std::vector<float>* data;
+    std::size_t components;
+};
+
+/// A particle's place in the one-process order of the last grid build.
+struct order_key {
+    std::uint64_t cell = 0;  ///< the cell's slot
+    std::uint32_t rank = 0;  ///< its rank among the cell's particles
+    bool operator<(const order_key& o) const { return cell != o.cell ? cell < o.cell : rank < o.rank; }
+};
+
+template <int D>
+class distribution {
+public:
+    explicit distribution(std::shared_ptr<rank_comm> comm) : comm_(std::move(comm)) {}
+
+    rank_comm& comm() { return *comm_; }
+    bool ghost(std::size_t s) const { return ghost_[s] != 0; }
+    std::size_t owned() const { return owned_; }
+    std::size_t ghosts() const { return ghost_.size() - owned_; }
+    const order_key& key(std::size_t s) const { return key_[s]; }
+
+    /// Before the grid is built: drops last step's ghosts, moves every particle to the rank that
+    /// owns its cell plane, adds this step's ghosts and sorts everything by key. fields[0] is
+    /// the position. On the first call every rank holds every particle, in id order.
+    void redistribute(const grid_geometry<float>& g, const std::vector<carried_field>& fields,
+                      std::vector<std::uint32_t>& id) {
+        fields_ = fields;
+        const std::size_t n = id.size();
+        const bool first = bounds_.empty();
+        if (first) start(g, *fields[0].data, n, id);
+        const int me = comm_->rank(), ranks = comm_->size();
+        const std::size_t count = std::size_t(ranks);
+        std::vector<rank_bytes> moving(count);
+        std::vector<std::size_t> staying;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!first && ghost_[i]) continue;
+            const int q = owner(plane(g, i));
+            if (q == me) staying.push_back(i);
+            else if (!first) pack(moving[std::size_t(q)], i, id);  // on the first call q has it too
+        }
+        std::vector<rank_bytes> arrived = comm_->exchange(moving);
+        select(staying, id);
+        for (const rank_bytes& b : arrived) unpack(b, id, 0);
+        owned_ = id.size();
+        // Ghosts: this rank's particles within reach of another rank's slab.
+        std::vector<rank_bytes> copies(count);
+        std::vector<std::vector<std::uint32_t>> sent(count);
+        for (std::size_t i = 0; i < owned_; ++i) {
+            const std::int64_t c = plane(g, i);
+            for (int q = 0; q < ranks; ++q)
+                if (q != me && near(q, c, g.reach)) pack(copies[std::size_t(q)], i, id), sent[std::size_t(q)].push_back(std::uint32_t(i));
+        }
+        std::vector<rank_bytes> received = comm_->exchange(copies);
+        std::vector<std::vector<std::uint32_t>> got(count);
+        for (int q = 0; q < ranks; ++q) {
+            const std::size_t before = id.size();
+            unpack(received[std::size_t(q)], id, 1);
+            for (std::size_t i = before; i < id.size(); ++i) got[std::size_t(q)].push_back(std::uint32_t(i));
+        }
+        // The one-process order of the last step (the grid's sort keeps it inside each cell).
+        std::vector<std::uint32_t> order(id.size());
+        std::iota(order.begin(), order.end(), 0u);
+        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key_[a] < key_[b]; });
+        permute(order, id);
+        tag_ = std::move(order);  // tag_[s]: the index before this sort, for the exchange lists
+        sent_ = std::move(sent);
+        got_ = std::move(got);
+    }
+
+    /// After the grid sorted the arrays (reorder() applied to this class's arrays too): each
+    /// owned particle's key for the next step, and where the ghost exchanges read and write.
+    void sorted(const grid<float, D>& grid, const std::vector<float>& x) {
+        const grid_geometry<float>& g = grid.geometry();
+        const std::size_t n = ghost_.size();
+        std::vector<std::uint32_t> slot_of(n);
+        for (std::size_t s = 0; s < n; ++s) slot_of[tag_[s]] = std::uint32_t(s);
+        for (auto* lists : {&sent_, &got_})
+            for (auto& list : *lists)
+                for (auto& i : list) i = slot_of[i];
+        std::uint64_t previous = 0;
+        std::uint32_t in_cell = 0;
+        for (std::size_t s = 0; s < n; ++s) {
+            std::array<float, D> p;
+            for (int a = 0; a < D; ++a) p[std::size_t(a)] = x[s * D + std::size_t(a)] * g.scale;
+            const std::uint64_t cell = g.slot_of_cell(g.cell_of(p));
+            in_cell = s > 0 && cell == previous ? in_cell + 1 : 0;
+            previous = cell;
+            if (!ghost_[s]) key_[s] = {cell, in_cell};
+        }
+    }
+
+    /// Permutes this class's per-particle arrays as the grid permuted the caller's.
+    void reorder(const grid<float, D>& grid) {
+        grid.reorder(std::span<std::uint8_t>(ghost_));
+        grid.reorder(std::span<std::uint32_t>(tag_));
+        grid.reorder(std::span<order_key>(key_));
+    }
+
+    /// Each ghost takes its owner's values of these arrays (one value per particle).
+    void refresh(std::initializer_list<std::vector<float>*> arrays) {
+        const std::size_t ranks = std::size_t(comm_->size());
+        std::vector<rank_bytes> out(ranks);
+        for (std::size_t q = 0; q < ranks; ++q)
+            for (std::uint32_t s : sent_[q])
+                for (const auto* a : arrays) append(out[q], (*a)[s]);
+        const std::vector<rank_bytes> in = comm_->exchange(out);
+        for (std::size_t q = 0; q < ranks; ++q) {
+            const char* at = in[q].data();
+            if (in[q].size() != got_[q].size() * arrays.size() * sizeof(float))
+                throw error("ranks: ghost refresh from rank " + std::to_string(q) + " has the wrong size");
+            for (std::uint32_t s : got_[q])
+                for (auto* a : arrays) std::memcpy(&(*a)[s], at, sizeof(float)), at += sizeof(float);
+        }
+    }
+
+    /// Every rank's particles and ghosts.
+    std::vector<solver::rank_load> loads() {
+        std::vector<solver::rank_load> all;
+        for (const rank_bytes& b : comm_->all_gather(bytes_of(solver::rank_load{owned_, ghosts()})))
+            all.push_back(value_of<solver::rank_load>(b));
+        return all;
+    }
+
+    /// The largest of every rank's v.
+    double max(double v) {
+        double m = v;
+        for (const rank_bytes& b : comm_->all_gather(bytes_of(v))) m = std::max(m, value_of<double>(b));
+        return m;
+    }
+
+    /// The message of the particle first in the one-process order among those that ranks
+    /// found (found: this rank's first, or none), on every rank; empty when none found one.
+    std::string first_found(const order_key* found, const std::string& message) {
+        rank_bytes mine;
+        if (found) append(mine, *found), mine.insert(mine.end(), message.begin(), message.end());
+        std::string best;
+        order_key best_key;
+        bool any = false;
+        for (const rank_bytes& b : comm_->all_gather(mine)) {
+            if (b.empty()) continue;
+            const order_key k = value_of<order_key>(b);
+            if (!any || k < best_key) best_key = k, best = std::string(b.begin() + sizeof(order_key), b.end()), any = true;
+        }
+        return best;
+    }
+
+    /// The owned particles of every rank on rank 0, in the one-process order: the fields given
+    /// (one float array each, `components` values per particle) and the ids. Empty on others.
+    void gather(const std::vector<carried_field>& fields, const std::vector<std::uint32_t>& id,
+                std::vector<std::vector<float>>& out, std::vector<std::uint32_t>& out_id) {
+        rank_bytes mine;
+        for (std::size_t s = 0; s < ghost_.size(); ++s) {
+            if (ghost_[s]) continue;
+            append(mine, key_[s]);
+            append(mine, id[s]);
+            for (const auto& f : fields)
+                for (std::size_t c = 0; c < f.components; ++c) append(mine, (*f.data)[s * f.components + c]);
+        }
+        std::size_t floats = 0;
+        for (const auto& f : fields) floats += f.components;
+        const std::size_t record = sizeof(order_key) + sizeof(std::uint32_t) + floats * sizeof(float);
+        struct row {
+            order_key key;
+            std::size_t at;
+        };
+        rank_bytes all;
+        for (const rank_bytes& b : comm_->gather(mine)) all.insert(all.end(), b.begin(), b.end());
+        const std::size_t n = all.size() / record;
+        std::vector<row> rows(n);
+        for (std::size_t r = 0; r < n; ++r) rows[r] = {value_of<order_key>(all, r * record), r * record};
+        std::sort(rows.begin(), rows.end(), [](const row& a, const row& b) { return a.key < b.key; });
+        out.assign(fields.size(), {});
+        for (std::size_t f = 0; f < fields.size(); ++f) out[f].resize(n * fields[f].components);
+        out_id.resize(n);
+        for (std::size_t r = 0; r < n; ++r) {
+            std::size_t at = rows[r].at + sizeof(order_key);
+            out_id[r] = value_of<std::uint32_t>(all, at);
+            at += sizeof(std::uint32_t);
+            for (std::size_t f = 0; f < fields.size(); ++f)
+                for (std::size_t c = 0; c < fields[f].components; ++c)
+                    out[f][r * fields[f].components + c] = value_of<float>(all, at), at += sizeof(float);
+        }
+    }
+
+private:
+    template <class U>
+    static void append(rank_bytes& b, const U& v) {
+        const char* p = reinterpret_cast<const char*>(&v);
+        b.insert(b.end(), p, p + sizeof(U));
+    }
+    template <class U>
+    static rank_bytes bytes_of(const U& v) {
+        rank_bytes b;
+        append(b, v);
+        return b;
+    }
+    template <class U>
+    static U value_of(const rank_bytes& b, std::size_t at = 0) {
+        if (at + sizeof(U) > b.size()) throw error("ranks: a message is shorter than its contents");
+        U v;
+        std::memcpy(&v, b.data() + at, sizeof(U));
+        return v;
+    }
+
+    /// The cut axis (the one with the most cells) and slabs of about equal particle counts.
+    void start(const grid_geometry<float>& g, const std::vector<float>& x, std::size_t n, const std::vector<std::uint32_t>& id) {
+        if (g.kind != grid_kind::uniform || g.periodic)
+            throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid over an open domain");
+        axis_ = 0;
+        for (int a = 1; a < D; ++a)
+            if (g.dims[std::size_t(a)] > g.dims[std::size_t(axis_)]) axis_ = a;
+        ghost_.assign(n, 0);
+        key_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) key_[i] = {0, id[i]};  // seeded in id order
+        (void)x;
+        const std::int64_t planes = g.dims[std::size_t(axis_)];
+        std::vector<std::size_t> count(std::size_t(planes), 0);
+        for (std::size_t i = 0; i < n; ++i) ++count[std::size_t(plane(g, i))];
+        const std::size_t ranks = std::size_t(comm_->size());
+        bounds_.assign(ranks + 1, planes);
+        bounds_[0] = 0;
+        std::size_t below = 0;
+        std::size_t r = 1;
+        for (std::int64_t c = 0; c < planes && r < ranks; ++c) {
+            while (r < ranks && below * ranks >= r * n) bounds_[r++] = c;
+            below += count[std::size_t(c)];
+        }
+    }
+
+    std::int64_t plane(const grid_geometry<float>& g, std::size_t i) const {
+        const std::vector<float>& x = *fields_[0].data;
+        std::array<float, D> p;
+        for (int a = 0; a < D; ++a) p[std::size_t(a)] = x[i * D + std::size_t(a)] * g.scale;
+        return g.cell_of(p)[std::size_t(axis_)];
+    }
+    int owner(std::int64_t c) const {
+        const auto it = std::upper_bound(bounds_.begin(), bounds_.end(), c);
+        return int(std::clamp<std::ptrdiff_t>(it - bounds_.begin() - 1, 0, comm_->size() - 1));
+    }
+    /// Whether rank q's slab holds a plane within `reach` of plane c.
+    bool near(int q, std::int64_t c, int reach) const {
+        const std::int64_t lo = bounds_[std::size_t(q)], hi = bounds_[std::size_t(q) + 1];
+        return lo < hi && c + reach >= lo && c - reach < hi;
+    }
+
+    void pack(rank_bytes& b, std::size_t i, const std::vector<std::uint32_t>& id) const {
+        append(b, key_[i]);
+        append(b, id[i]);
+        for (const auto& f : fields_)
+            for (std::size_t c = 0; c < f.components; ++c) append(b, (*f.data)[i * f.components + c]);
+    }
+    void unpack(const rank_bytes& b, std::vector<std::uint32_t>& id, std::uint8_t ghost) {
+        std::size_t floats = 0;
+        for (const auto& f : fields_) floats += f.components;
+        const std::size_t record = sizeof(order_key) + sizeof(std::uint32_t) + floats * sizeof(float);
+        if (b.size() % record) throw error("ranks: a particle message of " + std::to_string(b.size()) + " bytes");
+        for (std::size_t at = 0; at < b.size();) {
+            key_.push_back(value_of<order_key>(b, at)), at += sizeof(order_key);
+            id.push_back(value_of<std::uint32_t>(b, at)), at += sizeof(std::uint32_t);
+            ghost_.push_back(ghost);
+            for (const auto& f : fields_)
+                for (std::size_t c = 0; c < f.components; ++c) f.data->push_back(value_of<float>(b, at)), at += sizeof(float);
+        }
+    }
+    /// Keeps the particles at `keep` (in that order).
+    void select(const std::vector<std::size_t>& keep, std::vector<std::uint32_t>& id) {
+        auto take = [&](auto& v, std::size_t components) {
+            std::remove_reference_t<decltype(v)> out(keep.size() * components);
+            for (std::size_t k = 0; k < keep.size(); ++k)
+                for (std::size_t c = 0; c < components; ++c) out[k * components + c] = v[keep[k] * components + c];
+            v.swap(out);
+        };
+        for (const auto& f : fields_) take(*f.data, f.components);
+        take(id, 1);
+        take(key_, 1);
+        ghost_.assign(keep.size(), 0);
+    }
+    /// new[k] = old[order[k]] for every carried array.
+    void permute(const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& id) {
+        std::vector<std::size_t> keep(order.begin(), order.end());
+        const std::vector<std::uint8_t> ghost = ghost_;
+        select(keep, id);
+        for (std::size_t k = 0; k < keep.size(); ++k) ghost_[k] = ghost[keep[k]];
+    }
+
+    std::shared_ptr<rank_comm> comm_;
+    std::vector<carried_field> fields_;
+    int axis_ = 0;
+    std::vector<std::int64_t> bounds_;  ///< rank q owns planes [bounds_[q], bounds_[q + 1])
+    std::vector<std::uint8_t> ghost_;
+    std::vector<order_key> key_;
+    std::vector<std::uint32_t> tag_;
+    std::size_t owned_ = 0;
+    std::vector<std::vector<std::uint32_t>> sent_, got_;  ///< ghost exchange lists, per rank
+};
+
+}  // namespace frnn::sim::detail
