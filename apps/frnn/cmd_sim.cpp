@@ -40,11 +40,12 @@ void run_sim(const sim_args& a) {
     opt.video = a.video;
     opt.progress = !a.quiet;
     if (!a.resume.empty()) {
-        if (launcher_ranks() > 1) throw frnn::error("--resume runs in one process only, not across ranks yet");
         if (!a.scene_file.empty() || !a.scene_name.empty() || !a.solver.empty() || a.dim || a.particles || a.steps ||
             a.time >= 0 || a.every)
             throw CLI::ValidationError("--resume", "continues a run with its own scene; give no scene options with it");
-        sim::resume(a.resume, opt);
+        const auto resume = [&](const sim::run_options& o) { sim::resume(a.resume, o); };
+        if (launcher_ranks() > 1) return run_sim_across_ranks(opt, resume);
+        resume(opt);
         return;
     }
     if (!a.scene_file.empty() && !a.scene_name.empty())

@@ -13,7 +13,9 @@ namespace frnn::sim::detail {
 namespace {
 using json = nlohmann::json;
 
-constexpr char magic[8] = {'F', 'R', 'N', 'N', 'S', 'I', 'M', '1'};
+// Format 2 adds the wall particles' state (density, pressure term) after the WCSPH arrays.
+constexpr char magic[8] = {'F', 'R', 'N', 'N', 'S', 'I', 'M', '2'};
+constexpr char magic_1[8] = {'F', 'R', 'N', 'N', 'S', 'I', 'M', '1'};
 
 json overrides_to_json(const scene_overrides& o) {
     json j = json::object();
@@ -71,6 +73,9 @@ void write_checkpoint(const std::string& path, const checkpoint_header& h, const
 checkpoint_header read_checkpoint_header(std::istream& in, const std::string& name) {
     char m[8] = {};
     in.read(m, 8);
+    if (in && std::string(m, 8) == std::string(magic_1, 8))
+        throw error(name + " was written by an older frnn (checkpoint format 1, without the wall particles' state): "
+                           "run the scene again");
     if (!in || std::string(m, 8) != std::string(magic, 8)) throw error(name + " is not a frnn sim checkpoint");
     checkpoint_header h;
     h.scene_json = read_string(in);

@@ -43,7 +43,12 @@ public:
     explicit distribution(std::shared_ptr<rank_comm> comm) : comm_(std::move(comm)) {}
 
     rank_comm& comm() { return *comm_; }
+    /// Ghosts within `depth` times the search's reach: 2 when wall particles take their
+    /// pressure from the fluid within one radius of them, up to two radii from a particle.
+    void set_halo_depth(int depth) { depth_ = depth; }
     bool ghost(std::size_t s) const { return ghost_[s] != 0; }
+    /// Whether the particles are shared out (the first step's redistribute() did).
+    bool started() const { return !bounds_.empty(); }
     std::size_t owned() const { return owned_; }
     std::size_t ghosts() const { return ghost_.size() - owned_; }
     const order_key& key(std::size_t s) const { return key_[s]; }
@@ -77,7 +82,7 @@ public:
         for (std::size_t i = 0; i < owned_; ++i) {
             const std::int64_t c = plane(g, i);
             for (int q = 0; q < ranks; ++q)
-                if (q != me && near(q, c, g.reach)) pack(copies[std::size_t(q)], i, id), sent[std::size_t(q)].push_back(std::uint32_t(i));
+                if (q != me && near(q, c, g.reach * depth_)) pack(copies[std::size_t(q)], i, id), sent[std::size_t(q)].push_back(std::uint32_t(i));
         }
         std::vector<rank_bytes> received = comm_->exchange(copies);
         std::vector<std::vector<std::uint32_t>> got(count);
@@ -140,6 +145,13 @@ public:
             for (std::uint32_t s : got_[q])
                 for (auto* a : arrays) std::memcpy(&(*a)[s], at, sizeof(float)), at += sizeof(float);
         }
+    }
+
+    /// The rank whose slab holds point x (D floats).
+    int owner_of(const grid_geometry<float>& g, const float* x) const {
+        std::array<float, D> p;
+        for (int a = 0; a < D; ++a) p[std::size_t(a)] = x[a] * g.scale;
+        return owner(g.cell_of(p)[std::size_t(axis_)]);
     }
 
     /// Every rank's particles and ghosts.
@@ -233,15 +245,19 @@ private:
 
     /// The cut axis (the one with the most cells) and slabs of about equal particle counts.
     void start(const grid_geometry<float>& g, const std::vector<float>& x, std::size_t n, const std::vector<std::uint32_t>& id) {
-        if (g.kind != grid_kind::uniform || g.periodic)
-            throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid over an open domain");
+        if (g.kind != grid_kind::uniform)
+            throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid (this domain needs the "
+                                    "hashed grid: shrink it to a few times the fluid's extent)");
         axis_ = 0;
         for (int a = 1; a < D; ++a)
             if (g.dims[std::size_t(a)] > g.dims[std::size_t(axis_)]) axis_ = a;
         ghost_.assign(n, 0);
         key_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) key_[i] = {0, id[i]};  // seeded in id order
-        (void)x;
+        // The arrays' order: the seeding's, or a checkpoint's (the one-process order then).
+        for (std::size_t i = 0; i < n; ++i) key_[i] = {0, std::uint32_t(i)};
+        wraps_ = g.wraps[std::size_t(axis_)];
+        planes_ = g.dims[std::size_t(axis_)];
+        (void)x, (void)id;
         const std::int64_t planes = g.dims[std::size_t(axis_)];
         std::vector<std::size_t> count(std::size_t(planes), 0);
         for (std::size_t i = 0; i < n; ++i) ++count[std::size_t(plane(g, i))];
@@ -266,10 +282,17 @@ private:
         const auto it = std::upper_bound(bounds_.begin(), bounds_.end(), c);
         return int(std::clamp<std::ptrdiff_t>(it - bounds_.begin() - 1, 0, comm_->size() - 1));
     }
-    /// Whether rank q's slab holds a plane within `reach` of plane c.
+    /// Whether rank q's slab holds a plane within `reach` of plane c (around the box on a
+    /// periodic axis).
     bool near(int q, std::int64_t c, int reach) const {
         const std::int64_t lo = bounds_[std::size_t(q)], hi = bounds_[std::size_t(q) + 1];
-        return lo < hi && c + reach >= lo && c - reach < hi;
+        if (lo >= hi) return false;
+        if (!wraps_) return c + reach >= lo && c - reach < hi;
+        for (std::int64_t d = -reach; d <= reach; ++d) {
+            const std::int64_t p = ((c + d) % planes_ + planes_) % planes_;
+            if (p >= lo && p < hi) return true;
+        }
+        return false;
     }
 
     void pack(rank_bytes& b, std::size_t i, const std::vector<std::uint32_t>& id) const {
@@ -314,7 +337,9 @@ private:
 
     std::shared_ptr<rank_comm> comm_;
     std::vector<carried_field> fields_;
-    int axis_ = 0;
+    int axis_ = 0, depth_ = 1;
+    bool wraps_ = false;  ///< the cut axis is periodic
+    std::int64_t planes_ = 1;
     std::vector<std::int64_t> bounds_;  ///< rank q owns planes [bounds_[q], bounds_[q + 1])
     std::vector<std::uint8_t> ghost_;
     std::vector<order_key> key_;

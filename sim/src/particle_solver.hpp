@@ -77,7 +77,7 @@ public:
     }
 
     particle_view view() const override {
-        if (dist_ && !gathered_.empty()) {
+        if (gathered()) {
             const auto& f = gathered_;
             return {D, gathered_id_.size(), f[0].data(), f[1].data(), f[2].data(), f[3].data(), gathered_id_.data()};
         }
@@ -85,13 +85,16 @@ public:
     }
 
     void set_ranks(std::shared_ptr<rank_comm> ranks) override {
-        if (periodic_) throw ranks_agree_error("a periodic domain runs in one process only, not across ranks yet");
         if (built_) throw error("set_ranks: call it before the first step");
+        build_or_rebuild(radius());  // the one-process grid's cells, which the ranks share out
+        if (grid_.kind() != grid_kind::uniform)
+            throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid (this domain needs the "
+                                    "hashed grid: shrink it to a few times the fluid's extent)");
         dist_ = std::make_unique<distribution<D>>(std::move(ranks));
     }
 
     void gather() override {
-        if (!dist_ || !built_) return;  // before the first step every rank holds every particle
+        if (!dist_ || !dist_->started()) return;  // before the first step every rank holds every particle
         std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&rho_, 1}, {&p_, 1}};
         for (const carried_field& f : extra_fields()) fields.push_back(f);
         dist_->gather(fields, id_, gathered_, gathered_id_);
@@ -137,6 +140,9 @@ protected:
     /// brings it to rank 0 after x, v, rho and p: gathered_[4], ...).
     virtual std::vector<carried_field> extra_fields() { return {}; }
 
+    /// Across ranks after the first step: view() and save() show gather()'s particles.
+    bool gathered() const { return dist_ && !gathered_.empty(); }
+
     /// Whether particle i is this rank's (always in one process; not a ghost across ranks).
     bool owned(std::size_t i) const { return !dist_ || !dist_->ghost(i); }
 
@@ -163,9 +169,8 @@ protected:
     /// rebuild_grid across ranks: the particles move to their ranks and the ghosts come in
     /// (distribution.hpp) before the grid sorts them.
     template <class... Arrays>
-    void rebuild_distributed(profiler& prof, double radius, Arrays&... arrays) {
+    void rebuild_distributed(profiler& prof, double, Arrays&... arrays) {
         serial(prof, stage::grid, [&] {
-            if (!built_) build_or_rebuild(radius);  // the scene's cells; every rank holds every particle
             std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, arrays.size() / n_}...};
             dist_->redistribute(grid_.geometry(), fields, id_);
             n_ = id_.size();
@@ -287,7 +292,7 @@ protected:
         write_pod(o, time_);
         write_pod(o, steps_);
         write_pod(o, last_dt_);
-        if (dist_) {  // rank 0's gathered particles, as one process holds them
+        if (gathered()) {  // rank 0's gathered particles, as one process holds them
             write_pod(o, std::uint64_t(gathered_id_.size()));
             for (std::size_t f = 0; f < 4; ++f) write_vec(o, gathered_[f]);
             write_vec(o, gathered_id_);
@@ -301,7 +306,7 @@ protected:
         write_vec(o, id_);
     }
     void load_common(std::istream& in) {
-        if (dist_) throw ranks_agree_error("--resume runs in one process only, not across ranks yet");
+        if (dist_) throw error("load: call it before set_ranks");
         std::uint32_t d = 0;
         std::uint64_t n = 0;
         read_pod(in, d);

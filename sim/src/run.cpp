@@ -397,17 +397,23 @@ run_result run(const std::string& scene_json, const std::string& origin, const s
 }
 
 run_result resume(const std::string& dir, const run_options& opt) {
-    if (opt.ranks && opt.ranks->size() > 1) throw ranks_agree_error("--resume runs in one process only, not across ranks yet");
-    std::ifstream in(dir + "/checkpoint.bin", std::ios::binary);
-    if (!in) throw error("--resume: no checkpoint in '" + dir + "' (expected " + dir + "/checkpoint.bin)");
-    run_state st = detail::read_checkpoint_header(in, "--resume: '" + dir + "/checkpoint.bin'");
-    scene sc = parse_scene(st.scene_json, st.origin);
-    apply(sc, st.ov);
-    auto sol = make_solver(sc, opt.threads);
-    sol->load(in);
-    prepare_dir(dir, opt, false);
-    if (opt.write_frames && !st.frames.empty()) write_pvd(dir + "/particles.pvd", st.frames);
-    if (opt.progress)
+    const bool root = !opt.ranks || opt.ranks->rank() == 0;
+    run_state st;
+    std::unique_ptr<solver> sol;
+    on_every_rank(opt.ranks, [&] {  // across ranks, every rank reads the checkpoint
+        std::ifstream in(dir + "/checkpoint.bin", std::ios::binary);
+        if (!in) throw error("--resume: no checkpoint in '" + dir + "' (expected " + dir + "/checkpoint.bin)");
+        st = detail::read_checkpoint_header(in, "--resume: '" + dir + "/checkpoint.bin'");
+        scene sc = parse_scene(st.scene_json, st.origin);
+        apply(sc, st.ov);
+        sol = make_solver(sc, opt.threads);
+        sol->load(in);
+        if (opt.ranks && opt.ranks->size() > 1) sol->set_ranks(opt.ranks);
+        if (!root) return;
+        prepare_dir(dir, opt, false);
+        if (opt.write_frames && !st.frames.empty()) write_pvd(dir + "/particles.pvd", st.frames);
+    });
+    if (opt.progress && root)
         std::fprintf(stderr, "frnn sim: resuming %s at step %llu (t = %.4f s, frame %zu)\n", dir.c_str(),
                      (unsigned long long)sol->steps(), sol->time(), st.frames.empty() ? 0 : st.frames.size() - 1);
     return execute(st, *sol, opt, dir, true);

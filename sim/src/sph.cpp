@@ -26,6 +26,8 @@
 // instruction-set level and thread count; the per-particle arithmetic (equation of state, the
 // constant factors, the kernel integral over walls) is double.
 #include <cmath>
+#include <array>
+#include <cstring>
 #include <memory>
 
 #include "frnn/sim/kernels.hpp"
@@ -100,9 +102,16 @@ public:
 
     void save(std::ostream& o) const override {
         this->save_common(o);
-        write_vec(o, this->dist_ ? this->gathered_[4] : acc_);
-        write_vec(o, this->dist_ ? this->gathered_[5] : background_acc_);
+        write_vec(o, this->gathered() ? this->gathered_[4] : acc_);
+        write_vec(o, this->gathered() ? this->gathered_[5] : background_acc_);
         write_pod(o, std::uint8_t(have_acc_));
+        if (this->gathered()) return write_vec(o, gathered_walls_);
+        std::vector<float> walls(2 * walls_.size());
+        for (std::size_t k = 0; k < walls_.size(); ++k) {
+            const std::array<float, 2> state = walls_.state(k);
+            walls[2 * k] = state[0], walls[2 * k + 1] = state[1];
+        }
+        write_vec(o, walls);
     }
     void load(std::istream& in) override {
         this->load_common(in);
@@ -111,13 +120,45 @@ public:
         std::uint8_t h = 0;
         read_pod(in, h);
         have_acc_ = h != 0;
+        std::vector<float> walls;
+        read_vec(in, walls, 2 * walls_.size());
+        for (std::size_t k = 0; k < walls_.size(); ++k) walls_.set_state(k, {walls[2 * k], walls[2 * k + 1]});
+    }
+
+    /// Across ranks, also each wall particle's state, from the rank whose slab holds it: all
+    /// the fluid within reach of it is there (the ghosts reach two radii).
+    void gather() override {
+        base::gather();
+        if (!this->gathered() || walls_.empty()) return;
+        auto& dist = *this->dist_;
+        const int me = dist.comm().rank();
+        rank_bytes mine;
+        for (std::size_t k = 0; k < walls_.size(); ++k) {
+            if (dist.owner_of(this->grid_.geometry(), walls_.positions() + k * D) != me) continue;
+            const std::uint32_t index = std::uint32_t(k);
+            const std::array<float, 2> s = walls_.state(k);
+            const char* parts[] = {reinterpret_cast<const char*>(&index), reinterpret_cast<const char*>(s.data())};
+            mine.insert(mine.end(), parts[0], parts[0] + sizeof index);
+            mine.insert(mine.end(), parts[1], parts[1] + sizeof s);
+        }
+        gathered_walls_.assign(2 * walls_.size(), 0);
+        constexpr std::size_t record = sizeof(std::uint32_t) + 2 * sizeof(float);
+        for (const rank_bytes& b : dist.comm().gather(mine))
+            for (std::size_t at = 0; at + record <= b.size(); at += record) {
+                std::uint32_t k = 0;
+                std::memcpy(&k, b.data() + at, sizeof k);
+                if (k >= walls_.size()) throw error("ranks: wall particle " + std::to_string(k) + " out of range");
+                std::memcpy(&gathered_walls_[2 * std::size_t(k)], b.data() + at + sizeof k, 2 * sizeof(float));
+            }
     }
 
     std::size_t wall_particle_count() const override { return walls_.size(); }
 
     void set_ranks(std::shared_ptr<rank_comm> ranks) override {
-        if (!walls_.empty()) throw ranks_agree_error("wall particles run in one process only, not across ranks yet");
         base::set_ranks(std::move(ranks));
+        // A wall particle within one radius of a particle takes its pressure from the fluid
+        // within one radius of it (wall_particles.hpp): ghosts up to two radii away.
+        if (!walls_.empty()) this->dist_->set_halo_depth(2);
     }
 
     void set_colliders(const std::vector<collider>& colliders) override {
@@ -357,6 +398,7 @@ private:
     std::vector<float> background_acc_;  // the transport velocity's a_b
     std::vector<float> position_, velocity_;  // per particle {x, rho}, {v, p / rho^2} (sph_pairs.hpp)
     bool have_acc_ = false;
+    std::vector<float> gathered_walls_;  // across ranks: gather()'s wall states, {rho, p / rho^2} each
     wall_particles<D> walls_;  // sph.wall_particles
     sph_pair_kernels<D> pairs_;
 };

@@ -9,6 +9,7 @@
 // above it; extrapolated pressure does (validation: the hydrostatic tank).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -104,6 +105,12 @@ public:
     const std::uint32_t* begin(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i]; }
     const std::uint32_t* end(std::size_t i) const { return fluid_walls_.indices.data() + fluid_walls_.offsets[i + 1]; }
 
+    /// Positions, D floats per wall particle.
+    const float* positions() const { return x_.data(); }
+    /// Wall particle k's extrapolated state, {rho, p / rho^2}: the density pass reads the
+    /// last step's (extrapolate() runs after it), so a checkpoint holds it.
+    std::array<float, 2> state(std::size_t k) const { return {records_[4 * k + 3], p_over_rho2_[k]}; }
+    void set_state(std::size_t k, const std::array<float, 2>& s) { records_[4 * k + 3] = s[0], p_over_rho2_[k] = s[1]; }
     /// The wall particles' records {x, rho} (4 floats each, see neighbor_lanes.hpp) and p / rho^2.
     const float* records() const { return records_.data(); }
     const float* pressure_terms() const { return p_over_rho2_.data(); }

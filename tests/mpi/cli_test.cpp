@@ -14,6 +14,10 @@
 #include "cli/run_tool.hpp"
 #include "oracle/point_sets.hpp"
 #include "scratch_dir.hpp"
+#ifdef FRNN_SIM_AVAILABLE
+#include "frnn/sim/run.hpp"
+#include "frnn/sim/scene.hpp"
+#endif
 
 namespace frnn::test {
 namespace {
@@ -257,6 +261,14 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.25, 0.5, 1]}],
         "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
         "sph": {"alpha": 0.3, "cfl": 0.4}, "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
+    // A layer flowing along a periodic x over a floor, stirred by a sphere.
+    write_bytes(dir / "periodic-channel.json", R"({"name": "periodic-channel", "solver": "sph", "dim": 2,
+        "particles": {"2d": 1200, "3d": 4000}, "duration": 1, "gravity": [0, -9.81, 0],
+        "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 0, 0],
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1], "velocity": [1.5, 0, 0]}],
+        "colliders": [{"name": "floor", "type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]},
+                      {"name": "stone", "type": "sphere", "center": [0.5, 0.12, 0.5], "radius": 0.08}],
+        "sph": {"alpha": 0.3}})");
     struct scene_case {
         const char* options;
         std::size_t frames;  // the first, then one every `--every` steps
@@ -265,14 +277,19 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
     const std::vector<scene_case> cases = {
         {"open-dam-break.json --steps 400 --every 100", 5, {{2, 2}, {3, 1}, {4, 1}}},
         {"--scene droplet --solver sph --dim 3 --particles 2000 --steps 24 --every 12", 3, {{2, 1}}},
+        // Wall particles: ghosts two radii deep.
+        {"--scene dam-break --solver sph --dim 2 --particles 1250 --steps 300 --every 100", 4, {{2, 1}, {3, 2}}},
+        // Periodic along the cut axis: particles and ghosts cross x = 0 = 1.
+        {"periodic-channel.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.options);
         const std::string common = std::string("sim ") + c.options + " --quiet";
         const auto one = run_command(dir, tool + " " + common + " --threads 1 --out one");
         ASSERT_EQ(one.code, 0) << one.err;
-        if (std::string(c.options).find("dam-break") != std::string::npos)
+        if (std::string(c.options).find("dam-break") != std::string::npos) {
             ASSERT_TRUE(std::filesystem::exists(dir / "one" / "front.csv"));
+        }
         const std::size_t particles = summary_without_timings(dir / "one" / "summary.json")["particles"].get<std::size_t>();
         for (const auto& [ranks, threads] : c.ranks_threads) {
             SCOPED_TRACE(std::to_string(ranks) + " ranks of " + std::to_string(threads) + " threads");
@@ -302,16 +319,56 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
     }
 }
 
+#ifdef FRNN_SIM_AVAILABLE
+// A one-process run stopped after its checkpoint at step 100 and continued across ranks ends
+// as the uninterrupted run, byte for byte.
+TEST(MpiCli, SimResumedAcrossRanksIsTheOneProcessRun) {
+    const scratch_dir dir("mpi_cli_sim_resume");
+    const auto whole = run_command(dir, tool + " sim --scene dam-break --solver sph --dim 2 --particles 1250 --steps 200 "
+                                               "--every 20 --quiet --threads 1 --out whole");
+    ASSERT_EQ(whole.code, 0) << whole.err;
+    sim::scene_overrides ov;  // the same options, as `frnn sim` gives them
+    ov.solver = sim::solver_kind::sph;
+    ov.dim = 2;
+    ov.particles = 1250;
+    ov.steps = 200;
+    ov.every = 20;
+    sim::run_options o;
+    o.out_dir = (dir / "cut").string();
+    o.threads = 1;
+    o.progress = o.print_table = false;
+    o.stop_after = 130;  // the scene checkpoints every 5 frames: at step 100
+    ASSERT_FALSE(sim::run(sim::builtin_scene_text("dam-break"), "scene dam-break", ov, o).finished);
+    const auto resumed = run_mpi(dir, 3, "sim --resume cut --quiet");
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    std::size_t frames = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir / "whole" / "frames")) {
+        EXPECT_TRUE(read_bytes(e.path()) == read_bytes(dir / "cut" / "frames" / e.path().filename())) << e.path().filename();
+        ++frames;
+    }
+    EXPECT_EQ(frames, 11u);
+    for (const char* file : {"checkpoint.bin", "particles.pvd", "front.csv"})
+        EXPECT_TRUE(read_bytes(dir / "whole" / file) == read_bytes(dir / "cut" / file)) << file << " differs";
+}
+#endif
+
 // What does not run across ranks yet stops every rank with one message, before any file.
 TEST(MpiCli, SimAcrossRanksRefusesWhatItCannotRunYet) {
     const scratch_dir dir("mpi_cli_sim_refusals");
     const std::vector<std::string> before = listing(dir);
     expect_failure(run_mpi(dir, 2, "sim --steps 2 --out run"), 1,
                    "frnn: error: the viscoelastic solver runs in one process only (across ranks: --solver sph)");
-    expect_failure(run_mpi(dir, 3, "sim --scene dam-break --solver sph --dim 2 --steps 2 --out run"), 1,
-                   "frnn: error: wall particles run in one process only, not across ranks yet");
+    // A domain so much larger than the fluid that the one-process run takes the hashed grid.
+    write_bytes(dir / "vast.json", R"({"name": "vast", "solver": "sph", "dim": 2, "particles": {"2d": 400, "3d": 400},
+        "duration": 1, "gravity": [0, -9.81, 0], "domain": {"min": [0, 0, 0], "max": [1e7, 1e7, 1]},
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.2, 0.2, 1]}]})");
+    const std::vector<std::string> with_scene = listing(dir);
+    expect_failure(run_mpi(dir, 3, "sim vast.json --steps 2 --out run"), 1,
+                   "frnn: error: a simulation across ranks needs the scene's uniform grid");
+    EXPECT_EQ(listing(dir), with_scene) << "a refused run left files";
+    std::filesystem::remove(dir / "vast.json");
     expect_failure(run_mpi(dir, 2, "sim missing.json --out run"), 1, "frnn: error: cannot open scene file 'missing.json'");
-    expect_failure(run_mpi(dir, 2, "sim --resume run"), 1, "frnn: error: --resume runs in one process only");
+    expect_failure(run_mpi(dir, 2, "sim --resume run"), 1, "frnn: error: --resume: no checkpoint in 'run'");
     expect_failure(run_mpi(dir, 2, "sim --scene droplet --bogus"), 2, "frnn: The following argument was not expected: --bogus");
     EXPECT_EQ(listing(dir), before) << "a refused run left files";
 }

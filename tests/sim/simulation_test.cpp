@@ -246,11 +246,15 @@ TEST(SimSimulation, CorruptCheckpointsAreRefused) {
     std::memcpy(huge.data() + 8, &length, sizeof length);
     frnn::test::expect_error([&] { load(huge); }, {"checkpoint", "truncated", "1099511627776"});
 
-    // The sph state ends with the ids (4 bytes each), then 2 arrays of n * 2 floats and a flag.
+    // The sph state ends with the ids (4 bytes each), then 2 arrays of n * 2 floats, a flag and
+    // the wall particles' states (none here: a length of 0).
     particle_snapshot snap;
     a.snapshot(snap);
     const std::size_t n = snap.n;
-    const std::size_t ids = bytes.size() - 1 - 2 * (8 + 8 * n) - 4 * n;
+    std::uint64_t walls = 1;
+    std::memcpy(&walls, bytes.data() + bytes.size() - 8, 8);
+    ASSERT_EQ(walls, 0u);
+    const std::size_t ids = bytes.size() - 8 - 1 - 2 * (8 + 8 * n) - 4 * n;
     std::string twice = bytes;
     std::memcpy(twice.data() + ids + 4, twice.data() + ids, 4);  // slot 1 holds slot 0's id
     frnn::test::expect_error([&] { load(twice); }, {"checkpoint", "particle slot 1 holds id"});
