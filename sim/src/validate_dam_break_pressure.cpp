@@ -225,9 +225,10 @@ case_output validate_dam_break_pressure(const case_context& context) {
               "2.01, ..., 5.5, in rho g H:\n\n| sensor |";
         for (std::size_t r = 0; r + 1 < runs.size(); ++r)
             md += " D(H/" + std::to_string(runs[r].k) + ", H/" + std::to_string(runs[r + 1].k) + ") |";
-        if (runs.size() > 2) md += " observed order |";
+        for (std::size_t r = 0; r + 2 < runs.size(); ++r)
+            md += " observed order, H/" + std::to_string(runs[r].k) + " to H/" + std::to_string(runs[r + 2].k) + " |";
         md += "\n| --- |";
-        for (std::size_t r = 0; r < std::min<std::size_t>(runs.size(), 3); ++r) md += " ---: |";
+        for (std::size_t r = 0; r + 3 < 2 * runs.size(); ++r) md += " ---: |";  // (n - 1) D and (n - 2) orders
         md += "\n";
         for (std::size_t e = 0; e < experiments.size(); ++e) {
             md += "| " + experiments[e].name + " |";
@@ -240,7 +241,7 @@ case_output validate_dam_break_pressure(const case_context& context) {
                                          difference.back());
                 md += std::string(" ") + number("%.4f", difference.back()) + " |";
             }
-            for (std::size_t r = 0; r + 1 < difference.size() && r < 1; ++r) {
+            for (std::size_t r = 0; r + 1 < difference.size(); ++r) {
                 const double order = std::log2(difference[r] / difference[r + 1]);
                 out.figures.emplace_back("observed order, H/" + std::to_string(runs[r].k) + " to H/" +
                                              std::to_string(runs[r + 2].k) + ", " + experiments[e].name,
