@@ -26,6 +26,7 @@ using case_runner = std::function<case_output(const case_context&)>;
 
 const std::vector<std::pair<std::string, case_runner>>& registry() {
     static const std::vector<std::pair<std::string, case_runner>> cases = {{"dam-break", validate_dam_break},
+                                                                                     {"dam-break-pressure", validate_dam_break_pressure},
                                                                                      {"hydrostatic", validate_hydrostatic},
                                                                                      {"taylor-green", validate_taylor_green}};
     return cases;

@@ -20,6 +20,7 @@ struct case_output {
 };
 
 case_output validate_dam_break(const case_context& context);
+case_output validate_dam_break_pressure(const case_context& context);
 case_output validate_hydrostatic(const case_context& context);
 case_output validate_taylor_green(const case_context& context);
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "frnn/error.hpp"
+#include "frnn/sim/impact_pressure.hpp"
 #include "frnn/sim/martin_moyce.hpp"
 #include "frnn/sim/validation.hpp"
 #include "scratch_dir.hpp"
@@ -43,6 +44,16 @@ std::string expect_error(const std::vector<std::string>& cases, const validation
     }
     ADD_FAILURE() << "validate did not throw";
     return {};
+}
+
+// Every figure has a tolerance, is a number and is within its tolerance.
+void expect_every_figure_passes(const validation_report& report) {
+    for (const auto& f : report.figures) {
+        ASSERT_TRUE(f.tolerance.has_value()) << f.name;
+        EXPECT_TRUE(f.passed()) << f.name << " = " << f.value << ", tolerance " << *f.tolerance;
+        EXPECT_TRUE(std::isfinite(f.value)) << f.name;
+    }
+    EXPECT_TRUE(report.passed);
 }
 
 // Runs quick case `name` with only `figure` held to `tolerance`, below what the coarse run
@@ -113,15 +124,39 @@ TEST(SimValidation, QuickHydrostaticTankPasses) {
     const validation_report report = validate({"hydrostatic"}, quick_into(dir));
     // Slope, bottom pressure and speed, for 2D and 3D, each with a tolerance.
     ASSERT_EQ(report.figures.size(), 6u);
-    for (const auto& f : report.figures) {
-        ASSERT_TRUE(f.tolerance.has_value()) << f.name;
-        EXPECT_TRUE(f.passed()) << f.name << " = " << f.value << ", tolerance " << *f.tolerance;
-        EXPECT_TRUE(std::isfinite(f.value)) << f.name;
-    }
-    EXPECT_TRUE(report.passed);
+    expect_every_figure_passes(report);
     const std::string md = read_text(dir / "report.md");
     EXPECT_NE(md.find("| 2D | H/20 |"), std::string::npos);
     EXPECT_NE(md.find("| 3D | H/10 |"), std::string::npos);
+}
+
+TEST(SimValidation, QuickDamBreakPressurePassesAndWritesItsReport) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the sanitizer tree runs the quick case once, in QuickDamBreakPassesAndWritesItsReport";
+#endif
+    const frnn::test::scratch_dir dir("validate_pressure");
+    const validation_report report = validate({"dam-break-pressure"}, quick_into(dir));
+    // Per sensor an arrival and a mean error, and a peak (upper sensors) or an impulse (the
+    // lowest), each with a tolerance.
+    ASSERT_EQ(report.figures.size(), 3 * impact_pressure_experiments().size());
+    expect_every_figure_passes(report);
+    const std::string md = read_text(dir / "report.md");
+    EXPECT_NE(md.find("| H/20 | 800 |"), std::string::npos);
+    EXPECT_NE(md.find("](dam-break-pressure/pressure.png)"), std::string::npos);
+    const std::string png = read_text(dir / "dam-break-pressure" / "pressure.png");
+    ASSERT_GT(png.size(), 8u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    // Every step's sample: a header and one row per step, from T = 0 to T = 6.
+    std::istringstream csv(read_text(dir / "dam-break-pressure" / "pressure-H20.csv"));
+    std::string line, last;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "T,buchner-60mm,lobovsky-3mm,lobovsky-30mm,lobovsky-80mm");
+    std::getline(csv, line);
+    EXPECT_EQ(line.substr(0, 9), "0.000000,");
+    std::size_t rows = 1;
+    while (std::getline(csv, line)) last = line, ++rows;
+    EXPECT_GE(std::stod(last), 6.0);
+    EXPECT_GT(rows, 1000u);
 }
 
 TEST(SimValidation, QuickTaylorGreenVortexStaysWithinItsTolerance) {
@@ -190,7 +225,7 @@ TEST(SimValidation, ToleranceNamingNoFigureIsAnError) {
 TEST(SimValidation, BadInputIsRefusedBeforeRunning) {
     const frnn::test::scratch_dir dir("validate_bad");
     validation_options o = quick_into(dir);
-    EXPECT_NE(expect_error({"dam-brake"}, o).find("unknown case 'dam-brake' (cases: dam-break, hydrostatic, taylor-green)"), std::string::npos);
+    EXPECT_NE(expect_error({"dam-brake"}, o).find("unknown case 'dam-brake' (cases: dam-break, dam-break-pressure, hydrostatic, taylor-green)"), std::string::npos);
     o.tolerances_json = "{";
     EXPECT_NE(expect_error({}, o).find("not JSON"), std::string::npos);
     o.tolerances_json = R"({"dam-break": {"quick": {"a/25, a = 2.25 in": -1}}})";

@@ -1,0 +1,258 @@
+// The dam-break-pressure validation case: a water column 2H long and H high (H = 0.3 m) at one
+// end of a tank 5.366H long and 3H high collapses, in 2D with WCSPH and the shipped dam break's
+// parameters, and hits the far wall; the pressure at the four sensors of Buchner (2002) and
+// Lobovsky et al. (2014) on that wall (frnn/sim/impact_pressure.hpp), sampled every step, to
+// T = t sqrt(g/H) = 6. Particle spacing H/50, H/100, H/200; quick: H/20. Figures per spacing:
+// each sensor's arrival error and mean error after impact, the upper sensors' peak error, the
+// lowest sensor's impulse error; in the full run the self-convergence D of each spacing against
+// the next and the observed order.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "frnn/io/atomic_file.hpp"
+#include "frnn/io/gnuplot.hpp"
+#include "frnn/sim/impact_pressure.hpp"
+#include "frnn/sim/profiler.hpp"
+#include "frnn/sim/scene.hpp"
+#include "frnn/sim/solver.hpp"
+#include "validation_case.hpp"
+
+namespace frnn::sim {
+
+namespace {
+
+constexpr double H = 0.3, g = 9.81, tank_height = 3.0;
+constexpr double t_end = 6.0;            // T of the run's end
+constexpr double error_t_hi = 5.5;       // the mean error's window ends before the second impact
+constexpr double peak_window = 1.0;      // the peak or plateau: within this after the arrival
+constexpr double impulse_window = 0.5;   // the first impact at the lowest sensor: this long
+constexpr double convergence_t_lo = 2.0; // D's window: from before the first arrival
+
+struct pressure_run {
+    int k = 0;
+    std::size_t particles = 0;
+    std::uint64_t steps = 0;
+    double wall_seconds = 0;
+    std::vector<pressure_signal> sensors;  // per impact_pressure_experiments() entry
+};
+
+std::string tank_scene(std::size_t particles) {
+    const double L = tank_length * H, top = tank_height * H;
+    char text[1024];
+    std::snprintf(text, sizeof text, R"({"name": "dam-break-pressure", "solver": "sph", "dim": 2, "particles": %zu,
+      "duration": %.17g, "gravity": [0, %g, 0],
+      "domain": {"min": [0, 0, 0], "max": [%.17g, %.17g, %.17g]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [%.17g, %.17g, %.17g]}],
+      "colliders": [{"type": "box", "inside": true, "center": [%.17g, %.17g, %.17g], "half": [%.17g, %.17g, %.17g]}]})",
+                  particles, t_end * std::sqrt(H / g), -g, L, top, H, column_length * H, column_height * H, H, L / 2,
+                  top / 2, H / 2, L / 2, top / 2, H / 2);
+    // The solver parameters a user gets: the shipped dam break's.
+    scene s = parse_scene(text, "dam-break-pressure");
+    s.sph = builtin_scene("dam-break").sph;
+    return scene_to_json(s);
+}
+
+pressure_run measure(int k, const case_context& context) {
+    pressure_run r;
+    r.k = k;
+    const scene s = parse_scene(tank_scene(std::size_t(2 * k * k)), "dam-break-pressure");
+    const auto start = std::chrono::steady_clock::now();
+    auto sol = make_solver(s, context.threads);
+    profiler prof;
+    const auto& experiments = impact_pressure_experiments();
+    r.sensors.resize(experiments.size());
+    const double scale = 1 / (sol->rest_density() * g * H), to_T = std::sqrt(g / H);
+    auto sample = [&] {
+        const particle_view v = sol->view();
+        for (std::size_t e = 0; e < experiments.size(); ++e)
+            r.sensors[e].emplace_back(sol->time() * to_T,
+                                      scale * shepard_pressure(v, tank_length * H, experiments[e].height * H,
+                                                               sol->radius()));
+    };
+    sample();
+    while (sol->time() * to_T < t_end) {
+        sol->step(prof);
+        sample();
+    }
+    std::string csv = "T";
+    for (const auto& e : experiments) csv += "," + e.name;
+    csv += "\n";
+    for (std::size_t i = 0; i < r.sensors[0].size(); ++i) {
+        char row[160];
+        std::snprintf(row, sizeof row, "%.6f", r.sensors[0][i].first);
+        csv += row;
+        for (const auto& sensor : r.sensors) {
+            std::snprintf(row, sizeof row, ",%.5f", sensor[i].second);
+            csv += row;
+        }
+        csv += "\n";
+    }
+    io::write_file_atomically(context.dir + "/pressure-H" + std::to_string(k) + ".csv", csv);
+    r.particles = sol->view().n;
+    r.steps = sol->steps();
+    r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+bool is_lowest(const pressure_series& s) { return s.name == "lobovsky-3mm"; }
+
+// The figures of a signal: arrival, peak (upper sensors) or impulse (lowest). A run whose
+// impact comes too late for a window is measured over what it covers; one with no impact
+// arrives at its end, with no peak and no impulse.
+struct impact_figures {
+    double arrival = 0, peak = 0, impulse = 0;
+};
+
+impact_figures figures_of(const pressure_signal& s, const pressure_series& sensor) {
+    impact_figures f;
+    const double end = s.back().first;
+    f.arrival = end;
+    for (const auto& [T, P] : s)
+        if (P >= impact_threshold) {
+            f.arrival = arrival_time(s);
+            break;
+        }
+    if (is_lowest(sensor))
+        f.impulse = pressure_integral(s, f.arrival, std::min(end, f.arrival + impulse_window));
+    else if (std::min(end, f.arrival + peak_window) - f.arrival >= pressure_mean_width)
+        f.peak = peak_mean(s, f.arrival, std::min(end, f.arrival + peak_window));
+    return f;
+}
+
+// The signal in bins of 0.01 in T (their means), for the plot.
+pressure_signal binned(const pressure_signal& s) {
+    pressure_signal out;
+    for (double T = 0.005; T + 0.005 <= s.back().first; T += 0.01) out.emplace_back(T, running_mean(s, T, 0.01));
+    return out;
+}
+
+std::string pressure_plot(const std::vector<pressure_run>& runs) {
+    const auto& experiments = impact_pressure_experiments();
+    std::string s = "set termoption noenhanced\nset multiplot layout 2,2 title 'Dam break 2D (WCSPH): pressure on "
+                    "the far wall against Buchner (2002) and Lobovsky et al. (2014)'\n";
+    const char* colours[] = {"#2471a3", "#229954", "#c0392b", "#7d3c98"};
+    int block = 0;
+    for (std::size_t e = 0; e < experiments.size(); ++e) {
+        char head[256];
+        std::snprintf(head, sizeof head,
+                      "set title '%s (height %.3gH)'\nset xlabel 'T = t sqrt(g/H)'\nset ylabel 'p / (rho g H)'\n"
+                      "set grid\nset key left top\nset xrange [1.5:%g]\n",
+                      experiments[e].name.c_str(), experiments[e].height, t_end);
+        s += head;
+        std::string plot;
+        auto add_block = [&](const pressure_signal& points, const std::string& style, const std::string& title) {
+            const std::string name = "$d" + std::to_string(block++);
+            s += io::gnuplot_data_block(name, points);
+            plot += std::string(plot.empty() ? "plot " : ", ") + name + " using 1:2 " + style + " title " +
+                    io::gnuplot_quoted(title);
+        };
+        for (std::size_t r = 0; r < runs.size(); ++r)
+            add_block(binned(runs[r].sensors[e]), std::string("with lines lw 1.5 lc rgb '") + colours[r % 4] + "'",
+                      "frnn, spacing H/" + std::to_string(runs[r].k));
+        add_block(experiments[e].points, "with linespoints pt 7 ps 0.6 lw 1 lc rgb '#000000'", "experiment");
+        s += plot + "\n";
+    }
+    return s + "unset multiplot\n";
+}
+
+std::string number(const char* format, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, value);
+    return text;
+}
+
+}  // namespace
+
+case_output validate_dam_break_pressure(const case_context& context) {
+    const std::vector<int> spacings = context.quick ? std::vector<int>{20} : std::vector<int>{50, 100, 200};
+    std::vector<pressure_run> runs;
+    for (int k : spacings) {
+        if (context.progress) std::fprintf(stderr, "dam-break-pressure: spacing H/%d, %d particles\n", k, 2 * k * k);
+        runs.push_back(measure(k, context));
+    }
+
+    const auto& experiments = impact_pressure_experiments();
+    std::vector<impact_figures> measured;
+    for (const auto& e : experiments) measured.push_back(figures_of(e.points, e));
+
+    case_output out;
+    std::string& md = out.markdown;
+    md += "## Dam break 2D (WCSPH): pressure on the far wall\n\n";
+    md += "A water column 2H long and H high (H = 0.3 m) at one end of a tank 5.366H long collapses and hits the "
+          "far wall (2D, WCSPH with the shipped dam break's `sph` section). The pressure at a sensor is the Shepard "
+          "average of the fluid particles' pressure within the kernel's support (2h) of its point on the wall, "
+          "sampled every step, over rho g H, against T = t sqrt(g/H). Arrival: P first reaches 0.25; peak: the "
+          "largest mean over 0.05 in T within 1 after the arrival; impulse: the integral of P over 0.5 after the "
+          "arrival; mean error: |P_sim - P| over the measured points from the measured arrival to T = 5.5, P_sim "
+          "averaged over 0.05 in T. Errors of arrival, peak and impulse are relative (frnn/sim/impact_pressure.hpp).\n\n";
+    std::string why;
+    const bool plotted = io::draw_with_gnuplot(pressure_plot(runs), 1100, 800, context.dir + "/pressure.png", why);
+    md += plotted ? "![wall pressure](dam-break-pressure/pressure.png)\n\n" : "(no plot: " + why + ")\n\n";
+
+    md += "| spacing | particles | steps | wall s |\n| --- | ---: | ---: | ---: |\n";
+    for (const auto& r : runs)
+        md += "| H/" + std::to_string(r.k) + " | " + std::to_string(r.particles) + " | " + std::to_string(r.steps) +
+              " | " + number("%.1f", r.wall_seconds) + " |\n";
+    md += "\n| sensor | source | arrival T | peak / impulse | mean error |\n| --- | --- | ---: | ---: | ---: |\n";
+    for (std::size_t e = 0; e < experiments.size(); ++e) {
+        const auto& sensor = experiments[e];
+        const std::string kind = is_lowest(sensor) ? "impulse " : "peak ";
+        md += "| " + sensor.name + " | experiment | " + number("%.3f", measured[e].arrival) + " | " + kind +
+              number("%.3f", is_lowest(sensor) ? measured[e].impulse : measured[e].peak) + " | |\n";
+        for (const auto& r : runs) {
+            const std::string at = "H/" + std::to_string(r.k) + ", " + sensor.name + ": ";
+            const pressure_signal& sim = r.sensors[e];
+            const impact_figures f = figures_of(sim, sensor);
+            const double mae = mean_abs_error(sim, sensor.points, measured[e].arrival, error_t_hi);
+            out.figures.emplace_back(at + "arrival error", std::abs(f.arrival - measured[e].arrival) / measured[e].arrival);
+            if (is_lowest(sensor))
+                out.figures.emplace_back(at + "impulse error", std::abs(f.impulse - measured[e].impulse) / measured[e].impulse);
+            else
+                out.figures.emplace_back(at + "peak error", std::abs(f.peak - measured[e].peak) / measured[e].peak);
+            out.figures.emplace_back(at + "mean error", mae);
+            md += "| " + sensor.name + " | H/" + std::to_string(r.k) + " | " + number("%.3f", f.arrival) + " | " +
+                  kind + number("%.3f", is_lowest(sensor) ? f.impulse : f.peak) + " | " + number("%.3f", mae) + " |\n";
+        }
+    }
+    md += "\n";
+
+    if (runs.size() > 1) {
+        md += "Self-convergence: D(h1, h2), the mean of |P_h1 - P_h2| (each averaged over 0.05 in T) over T = 2, "
+              "2.01, ..., 5.5, in rho g H:\n\n| sensor |";
+        for (std::size_t r = 0; r + 1 < runs.size(); ++r)
+            md += " D(H/" + std::to_string(runs[r].k) + ", H/" + std::to_string(runs[r + 1].k) + ") |";
+        for (std::size_t r = 0; r + 2 < runs.size(); ++r)
+            md += " observed order, H/" + std::to_string(runs[r].k) + " to H/" + std::to_string(runs[r + 2].k) + " |";
+        md += "\n| --- |";
+        for (std::size_t r = 0; r + 3 < 2 * runs.size(); ++r) md += " ---: |";  // (n - 1) D and (n - 2) orders
+        md += "\n";
+        for (std::size_t e = 0; e < experiments.size(); ++e) {
+            md += "| " + experiments[e].name + " |";
+            std::vector<double> difference;
+            for (std::size_t r = 0; r + 1 < runs.size(); ++r) {
+                difference.push_back(
+                    pressure_difference(runs[r].sensors[e], runs[r + 1].sensors[e], convergence_t_lo, error_t_hi));
+                out.figures.emplace_back("D(H/" + std::to_string(runs[r].k) + ", H/" + std::to_string(runs[r + 1].k) +
+                                             "), " + experiments[e].name,
+                                         difference.back());
+                md += std::string(" ") + number("%.4f", difference.back()) + " |";
+            }
+            for (std::size_t r = 0; r + 1 < difference.size(); ++r) {
+                const double order = std::log2(difference[r] / difference[r + 1]);
+                out.figures.emplace_back("observed order, H/" + std::to_string(runs[r].k) + " to H/" +
+                                             std::to_string(runs[r + 2].k) + ", " + experiments[e].name,
+                                         order);
+                md += std::string(" ") + number("%.2f", order) + " |";
+            }
+            md += "\n";
+        }
+        md += "\n";
+    }
+    return out;
+}
+
+}  // namespace frnn::sim
