@@ -25,6 +25,7 @@ struct sim_args {
     std::uint64_t steps = 0;
     double time = -1;
     bool png = false, video = false, quiet = false;
+    sim::balance_options balance;
     contend_args contend;
 };
 
@@ -39,6 +40,7 @@ void run_sim(const sim_args& a) {
     opt.png = a.png || a.video;
     opt.video = a.video;
     opt.progress = !a.quiet;
+    opt.balance = a.balance;
     if (!a.resume.empty()) {
         if (!a.scene_file.empty() || !a.scene_name.empty() || !a.solver.empty() || a.dim || a.particles || a.steps ||
             a.time >= 0 || a.every)
@@ -100,6 +102,12 @@ const register_command reg{"sim", [](CLI::App& app) {
     c->add_flag("--video", args->video, "Also make particles.mp4 with ffmpeg (implies --png)");
     c->add_option("--resume", args->resume, "Continue the interrupted run in DIR from its last checkpoint");
     c->add_flag("--quiet", args->quiet, "No progress on stderr");
+    c->add_option("--imbalance", args->balance.imbalance,
+                  "Under mpirun: cut the domain anew when the most loaded rank holds more than (1 + this) times "
+                  "the mean (default 0.1)")
+        ->check(CLI::Range(0.0, 1e6));
+    c->add_option("--balance-every", args->balance.check_every,
+                  "Under mpirun: steps between balance checks, 0 for never (default 20)");
     add_contend_options(c, args->contend, "in every other block of 10 steps (columns quiet/contended in the table)");
     c->callback([args] { run_sim(*args); });
 }};

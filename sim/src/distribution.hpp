@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -20,7 +21,6 @@
 
 #include "frnn/grid.hpp"
 #include "frnn/sim/ranks.hpp"
-#include "frnn/sim/solver.hpp"
 
 namespace frnn::sim::detail {
 
@@ -40,12 +40,15 @@ struct order_key {
 template <int D>
 class distribution {
 public:
-    explicit distribution(std::shared_ptr<rank_comm> comm) : comm_(std::move(comm)) {}
+    distribution(std::shared_ptr<rank_comm> comm, const balance_options& balance)
+        : comm_(std::move(comm)), balance_(balance) {}
 
     rank_comm& comm() { return *comm_; }
     /// Ghosts within `depth` times the search's reach: 2 when wall particles take their
     /// pressure from the fluid within one radius of them, up to two radii from a particle.
     void set_halo_depth(int depth) { depth_ = depth; }
+    /// Called on every rank when the cut is about to move, with the old cut still in place.
+    void before_rebalance(std::function<void()> f) { before_rebalance_ = std::move(f); }
     bool ghost(std::size_t s) const { return ghost_[s] != 0; }
     /// Whether the particles are shared out (the first step's redistribute() did).
     bool started() const { return !bounds_.empty(); }
@@ -61,7 +64,8 @@ public:
         fields_ = fields;
         const std::size_t n = id.size();
         const bool first = bounds_.empty();
-        if (first) start(g, *fields[0].data, n, id);
+        if (first) start(g, n);
+        else if (balance_.check_every > 0 && ++steps_ % balance_.check_every == 0) check_balance(g, n);
         const int me = comm_->rank(), ranks = comm_->size();
         const std::size_t count = std::size_t(ranks);
         std::vector<rank_bytes> moving(count);
@@ -72,7 +76,7 @@ public:
             if (q == me) staying.push_back(i);
             else if (!first) pack(moving[std::size_t(q)], i, id);  // on the first call q has it too
         }
-        std::vector<rank_bytes> arrived = comm_->exchange(moving);
+        std::vector<rank_bytes> arrived = exchange(moving);
         select(staying, id);
         for (const rank_bytes& b : arrived) unpack(b, id, 0);
         owned_ = id.size();
@@ -84,7 +88,7 @@ public:
             for (int q = 0; q < ranks; ++q)
                 if (q != me && near(q, c, g.reach * depth_)) pack(copies[std::size_t(q)], i, id), sent[std::size_t(q)].push_back(std::uint32_t(i));
         }
-        std::vector<rank_bytes> received = comm_->exchange(copies);
+        std::vector<rank_bytes> received = exchange(copies);
         std::vector<std::vector<std::uint32_t>> got(count);
         for (int q = 0; q < ranks; ++q) {
             const std::size_t before = id.size();
@@ -137,7 +141,7 @@ public:
         for (std::size_t q = 0; q < ranks; ++q)
             for (std::uint32_t s : sent_[q])
                 for (const auto* a : arrays) append(out[q], (*a)[s]);
-        const std::vector<rank_bytes> in = comm_->exchange(out);
+        const std::vector<rank_bytes> in = exchange(out);
         for (std::size_t q = 0; q < ranks; ++q) {
             const char* at = in[q].data();
             if (in[q].size() != got_[q].size() * arrays.size() * sizeof(float))
@@ -154,12 +158,16 @@ public:
         return owner(g.cell_of(p)[std::size_t(axis_)]);
     }
 
-    /// Every rank's particles and ghosts.
-    std::vector<solver::rank_load> loads() {
-        std::vector<solver::rank_load> all;
-        for (const rank_bytes& b : comm_->all_gather(bytes_of(solver::rank_load{owned_, ghosts()})))
-            all.push_back(value_of<solver::rank_load>(b));
-        return all;
+    /// Every rank's particles, ghosts and bytes sent, and the balance checks so far.
+    ranks_report report() {
+        ranks_report r;
+        for (const rank_bytes& b : comm_->all_gather(bytes_of(ranks_report::rank{owned_, ghosts(), bytes_sent_})))
+            r.per_rank.push_back(value_of<ranks_report::rank>(b));
+        r.checks = checks_;
+        r.rebalances = rebalances_;
+        r.largest_imbalance = largest_imbalance_;
+        r.mean_imbalance = checks_ ? imbalance_sum_ / double(checks_) : 0;
+        return r;
     }
 
     /// The largest of every rank's v.
@@ -243,41 +251,119 @@ private:
         return v;
     }
 
-    /// The cut axis (the one with the most cells) and slabs of about equal particle counts.
-    void start(const grid_geometry<float>& g, const std::vector<float>& x, std::size_t n, const std::vector<std::uint32_t>& id) {
-        if (g.kind != grid_kind::uniform)
-            throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid (this domain needs the "
-                                    "hashed grid: shrink it to a few times the fluid's extent)");
-        axis_ = 0;
-        for (int a = 1; a < D; ++a)
-            if (g.dims[std::size_t(a)] > g.dims[std::size_t(axis_)]) axis_ = a;
+    /// The first cut, from every particle (each rank holds them all on the first call).
+    void start(const grid_geometry<float>& g, std::size_t n) {
         ghost_.assign(n, 0);
         key_.resize(n);
         // The arrays' order: the seeding's, or a checkpoint's (the one-process order then).
         for (std::size_t i = 0; i < n; ++i) key_[i] = {0, std::uint32_t(i)};
-        wraps_ = g.wraps[std::size_t(axis_)];
-        planes_ = g.dims[std::size_t(axis_)];
-        (void)x, (void)id;
-        const std::int64_t planes = g.dims[std::size_t(axis_)];
-        std::vector<std::size_t> count(std::size_t(planes), 0);
-        for (std::size_t i = 0; i < n; ++i) ++count[std::size_t(plane(g, i))];
-        const std::size_t ranks = std::size_t(comm_->size());
-        bounds_.assign(ranks + 1, planes);
-        bounds_[0] = 0;
-        std::size_t below = 0;
-        std::size_t r = 1;
-        for (std::int64_t c = 0; c < planes && r < ranks; ++c) {
-            while (r < ranks && below * ranks >= r * n) bounds_[r++] = c;
-            below += count[std::size_t(c)];
-        }
+        axis_ = -1;
+        set_cut(g, choose_cut(g, histograms(g, n)));
     }
 
-    std::int64_t plane(const grid_geometry<float>& g, std::size_t i) const {
+    /// Particles per cell plane along each axis, this rank's (ghosts left out), axis after axis.
+    std::vector<std::uint64_t> histograms(const grid_geometry<float>& g, std::size_t n) const {
+        std::size_t size = 0;
+        for (int a = 0; a < D; ++a) size += std::size_t(g.dims[std::size_t(a)]);
+        std::vector<std::uint64_t> count(size, 0);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!ghost_.empty() && ghost_[i]) continue;
+            const cell_index c = cell(g, i);
+            std::size_t at = 0;
+            for (int a = 0; a < D; ++a) ++count[at + std::size_t(c[std::size_t(a)])], at += std::size_t(g.dims[std::size_t(a)]);
+        }
+        return count;
+    }
+
+    struct cut_choice {
+        int axis = 0;
+        std::vector<std::int64_t> bounds;  ///< rank q owns planes [bounds[q], bounds[q + 1])
+        std::uint64_t most = 0;            ///< the most particles a rank gets
+    };
+    /// Along each axis, slabs of about equal counts; the axis whose most loaded rank holds the
+    /// fewest (ties: the current axis, then the one with more planes).
+    cut_choice choose_cut(const grid_geometry<float>& g, const std::vector<std::uint64_t>& count) const {
+        cut_choice best;
+        std::size_t at = 0;
+        for (int a = 0; a < D; ++a) {
+            const std::size_t planes = std::size_t(g.dims[std::size_t(a)]);
+            cut_choice c;
+            c.axis = a;
+            c.bounds = cut(std::vector<std::uint64_t>(count.begin() + std::ptrdiff_t(at), count.begin() + std::ptrdiff_t(at + planes)));
+            for (std::size_t q = 0; q + 1 < c.bounds.size(); ++q) {
+                std::uint64_t held = 0;
+                for (std::int64_t p = c.bounds[q]; p < c.bounds[q + 1]; ++p) held += count[at + std::size_t(p)];
+                c.most = std::max(c.most, held);
+            }
+            at += planes;
+            const bool better = a == 0 || c.most < best.most ||
+                                (c.most == best.most && (a == axis_ || (best.axis != axis_ && g.dims[std::size_t(a)] > g.dims[std::size_t(best.axis)])));
+            if (better) best = std::move(c);
+        }
+        return best;
+    }
+    void set_cut(const grid_geometry<float>& g, cut_choice c) {
+        axis_ = c.axis;
+        bounds_ = std::move(c.bounds);
+        wraps_ = g.wraps[std::size_t(axis_)];
+        planes_ = g.dims[std::size_t(axis_)];
+    }
+
+    /// Slabs of about equal particle counts, from the count in each plane.
+    std::vector<std::int64_t> cut(const std::vector<std::uint64_t>& count) const {
+        const std::uint64_t ranks = std::uint64_t(comm_->size());
+        const std::int64_t planes = std::int64_t(count.size());
+        std::uint64_t n = 0;
+        for (std::uint64_t c : count) n += c;
+        std::vector<std::int64_t> bounds(ranks + 1, planes);
+        bounds[0] = 0;
+        std::uint64_t below = 0, r = 1;
+        for (std::int64_t c = 0; c < planes && r < ranks; ++c) {
+            while (r < ranks && below * ranks >= r * n) bounds[r++] = c;
+            below += count[std::size_t(c)];
+        }
+        return bounds;
+    }
+
+    /// The most loaded rank against the mean; a new cut when it exceeds 1 + imbalance.
+    void check_balance(const grid_geometry<float>& g, std::size_t n) {
+        std::vector<std::uint64_t> count = histograms(g, n);
+        std::uint64_t mine = 0;
+        for (std::size_t i = 0; i < n; ++i) mine += ghost_[i] ? 0 : 1;
+        std::uint64_t most = 0, total = 0;
+        for (const rank_bytes& b : comm_->all_gather(bytes_of(mine))) {
+            const std::uint64_t k = value_of<std::uint64_t>(b);
+            most = std::max(most, k), total += k;
+        }
+        const double imbalance = total ? double(most) * double(comm_->size()) / double(total) : 1;
+        ++checks_;
+        imbalance_sum_ += imbalance;
+        largest_imbalance_ = std::max(largest_imbalance_, imbalance);
+        if (imbalance <= 1 + balance_.imbalance) return;
+        rank_bytes local(count.size() * sizeof(std::uint64_t));
+        std::memcpy(local.data(), count.data(), local.size());
+        std::fill(count.begin(), count.end(), 0);
+        for (const rank_bytes& b : comm_->all_gather(local))
+            for (std::size_t c = 0; c < count.size(); ++c) count[c] += value_of<std::uint64_t>(b, c * sizeof(std::uint64_t));
+        cut_choice choice = choose_cut(g, count);
+        if (choice.axis == axis_ && choice.bounds == bounds_) return;
+        if (before_rebalance_) before_rebalance_();
+        set_cut(g, std::move(choice));
+        ++rebalances_;
+    }
+
+    std::vector<rank_bytes> exchange(const std::vector<rank_bytes>& out) {
+        for (const rank_bytes& b : out) bytes_sent_ += b.size();
+        return comm_->exchange(out);
+    }
+
+    cell_index cell(const grid_geometry<float>& g, std::size_t i) const {
         const std::vector<float>& x = *fields_[0].data;
         std::array<float, D> p;
         for (int a = 0; a < D; ++a) p[std::size_t(a)] = x[i * D + std::size_t(a)] * g.scale;
-        return g.cell_of(p)[std::size_t(axis_)];
+        return g.cell_of(p);
     }
+    std::int64_t plane(const grid_geometry<float>& g, std::size_t i) const { return cell(g, i)[std::size_t(axis_)]; }
     int owner(std::int64_t c) const {
         const auto it = std::upper_bound(bounds_.begin(), bounds_.end(), c);
         return int(std::clamp<std::ptrdiff_t>(it - bounds_.begin() - 1, 0, comm_->size() - 1));
@@ -336,6 +422,11 @@ private:
     }
 
     std::shared_ptr<rank_comm> comm_;
+    balance_options balance_;
+    std::function<void()> before_rebalance_;
+    std::uint64_t steps_ = 0, bytes_sent_ = 0;
+    std::size_t checks_ = 0, rebalances_ = 0;
+    double largest_imbalance_ = 0, imbalance_sum_ = 0;
     std::vector<carried_field> fields_;
     int axis_ = 0, depth_ = 1;
     bool wraps_ = false;  ///< the cut axis is periodic

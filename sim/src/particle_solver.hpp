@@ -84,13 +84,17 @@ public:
         return {D, n_, x_.data(), v_.data(), rho_.data(), p_.data(), id_.data()};
     }
 
-    void set_ranks(std::shared_ptr<rank_comm> ranks) override {
+    void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance) override {
         if (built_) throw error("set_ranks: call it before the first step");
+        for (int a = 0; a < D; ++a)
+            if (periodic_ && !(box_[a] > 0))  // its open axes would span each rank's own particles
+                throw ranks_agree_error("a domain periodic on some axes only runs in one process, not across ranks yet");
         build_or_rebuild(radius());  // the one-process grid's cells, which the ranks share out
         if (grid_.kind() != grid_kind::uniform)
             throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid (this domain needs the "
                                     "hashed grid: shrink it to a few times the fluid's extent)");
-        dist_ = std::make_unique<distribution<D>>(std::move(ranks));
+        cells_ = grid_.geometry();
+        dist_ = std::make_unique<distribution<D>>(std::move(ranks), balance);
     }
 
     void gather() override {
@@ -98,9 +102,9 @@ public:
         std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&rho_, 1}, {&p_, 1}};
         for (const carried_field& f : extra_fields()) fields.push_back(f);
         dist_->gather(fields, id_, gathered_, gathered_id_);
-        loads_ = dist_->loads();
+        report_ = dist_->report();
     }
-    std::vector<rank_load> rank_loads() const override { return loads_; }
+    ranks_report report_ranks() const override { return report_; }
     double time() const override { return time_; }
     std::uint64_t steps() const override { return steps_; }
     double last_dt() const override { return last_dt_; }
@@ -180,6 +184,7 @@ protected:
                 check_finite(steps_ + 1);
                 throw;
             }
+            check_cells();
             grid_.reorder(std::span<float>(x_), D);
             grid_.reorder(std::span<float>(v_), D);
             grid_.reorder(std::span<std::uint32_t>(id_), 1);
@@ -190,6 +195,19 @@ protected:
             p_.resize(n_);
         });
         neighbors_.build(grid_, prof);
+    }
+
+    /// A rank's grid must have the one-process grid's cells (their order is the row order). A
+    /// grid sizes a sparse periodic box's cells by its point count: a rank with too few
+    /// particles for the box would get others, so it stops the job instead.
+    void check_cells() const {
+        const grid_geometry<float>& g = grid_.geometry();
+        for (int a = 0; a < D; ++a)
+            if (g.dims[a] != cells_.dims[a] || g.origin[a] != cells_.origin[a] || g.cell[a] != cells_.cell[a] ||
+                g.kind != cells_.kind || g.reach != cells_.reach)
+                throw error("this rank's " + std::to_string(n_) + " particles and ghosts do not give the one-process grid's "
+                            "cells (" + std::to_string(g.dims[a]) + " instead of " + std::to_string(cells_.dims[a]) +
+                            " along axis " + std::to_string(a) + "): run on fewer ranks");
     }
 
     void build_or_rebuild(double radius) {
@@ -381,9 +399,10 @@ protected:
     float box_[D] = {};  // periodic box lengths (0 on open axes)
     neighbor_table neighbors_;
     std::unique_ptr<distribution<D>> dist_;  // across ranks (set_ranks); null in one process
+    grid_geometry<float> cells_;             // across ranks: the one-process grid's cells
     std::vector<std::vector<float>> gathered_;  // gather(): x, v, rho, p, then extra_fields()
     std::vector<std::uint32_t> gathered_id_;
-    std::vector<rank_load> loads_;
+    ranks_report report_;
 };
 
 }  // namespace frnn::sim::detail

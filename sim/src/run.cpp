@@ -177,10 +177,19 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
     summary["steps_this_run"] = this_run;
     summary["simulated_seconds"] = res.sim_time;
     summary["threads"] = threads;
-    if (const auto loads = sol.rank_loads(); !loads.empty()) {
+    if (const ranks_report ranks = sol.report_ranks(); !ranks.per_rank.empty()) {
         json per_rank = json::array();
-        for (const auto& l : loads) per_rank.push_back({{"particles", l.particles}, {"ghosts", l.ghosts}});
-        summary["ranks"] = {{"count", loads.size()}, {"per_rank", per_rank}};
+        for (const auto& r : ranks.per_rank)
+            per_rank.push_back({{"particles", r.particles}, {"ghosts", r.ghosts}, {"bytes_sent", r.bytes_sent}});
+        summary["ranks"] = {{"count", ranks.per_rank.size()},
+                            {"per_rank", per_rank},
+                            {"balance",
+                             {{"imbalance", opt.balance.imbalance},
+                              {"check_every", opt.balance.check_every},
+                              {"checks", ranks.checks},
+                              {"rebalances", ranks.rebalances},
+                              {"largest_imbalance", ranks.largest_imbalance},
+                              {"mean_imbalance", ranks.mean_imbalance}}}};
     }
     summary["spacing"] = sol.spacing();
     summary["radius"] = sol.radius();
@@ -382,7 +391,7 @@ run_result run(const std::string& scene_json, const std::string& origin, const s
         sc = parse_scene(scene_json, origin);
         apply(sc, overrides);
         sol = make_solver(sc, opt.threads);
-        if (opt.ranks && opt.ranks->size() > 1) sol->set_ranks(opt.ranks);
+        if (opt.ranks && opt.ranks->size() > 1) sol->set_ranks(opt.ranks, opt.balance);
         if (!root) return;
         if (dir.empty()) {
             dir = "sim-" + sc.name + "-" + to_string(sc.solver) + "-" + std::to_string(sc.dim) + "d-" + timestamp();
@@ -408,7 +417,7 @@ run_result resume(const std::string& dir, const run_options& opt) {
         apply(sc, st.ov);
         sol = make_solver(sc, opt.threads);
         sol->load(in);
-        if (opt.ranks && opt.ranks->size() > 1) sol->set_ranks(opt.ranks);
+        if (opt.ranks && opt.ranks->size() > 1) sol->set_ranks(opt.ranks, opt.balance);
         if (!root) return;
         prepare_dir(dir, opt, false);
         if (opt.write_frames && !st.frames.empty()) write_pvd(dir + "/particles.pvd", st.frames);

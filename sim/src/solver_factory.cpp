@@ -8,7 +8,7 @@
 
 namespace frnn::sim {
 
-void solver::set_ranks(std::shared_ptr<rank_comm>) {
+void solver::set_ranks(std::shared_ptr<rank_comm>, const balance_options&) {
     throw ranks_agree_error("the " + to_string(get_scene().solver) +
                             " solver runs in one process only (across ranks: --solver sph)");
 }

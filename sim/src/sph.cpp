@@ -130,35 +130,22 @@ public:
     void gather() override {
         base::gather();
         if (!this->gathered() || walls_.empty()) return;
-        auto& dist = *this->dist_;
-        const int me = dist.comm().rank();
-        rank_bytes mine;
-        for (std::size_t k = 0; k < walls_.size(); ++k) {
-            if (dist.owner_of(this->grid_.geometry(), walls_.positions() + k * D) != me) continue;
-            const std::uint32_t index = std::uint32_t(k);
-            const std::array<float, 2> s = walls_.state(k);
-            const char* parts[] = {reinterpret_cast<const char*>(&index), reinterpret_cast<const char*>(s.data())};
-            mine.insert(mine.end(), parts[0], parts[0] + sizeof index);
-            mine.insert(mine.end(), parts[1], parts[1] + sizeof s);
-        }
         gathered_walls_.assign(2 * walls_.size(), 0);
-        constexpr std::size_t record = sizeof(std::uint32_t) + 2 * sizeof(float);
-        for (const rank_bytes& b : dist.comm().gather(mine))
-            for (std::size_t at = 0; at + record <= b.size(); at += record) {
-                std::uint32_t k = 0;
-                std::memcpy(&k, b.data() + at, sizeof k);
-                if (k >= walls_.size()) throw error("ranks: wall particle " + std::to_string(k) + " out of range");
-                std::memcpy(&gathered_walls_[2 * std::size_t(k)], b.data() + at + sizeof k, 2 * sizeof(float));
-            }
+        for_each_wall_state(this->dist_->comm().gather(owned_wall_states()), [&](std::size_t k, const float* s) {
+            gathered_walls_[2 * k] = s[0], gathered_walls_[2 * k + 1] = s[1];
+        });
     }
 
     std::size_t wall_particle_count() const override { return walls_.size(); }
 
-    void set_ranks(std::shared_ptr<rank_comm> ranks) override {
-        base::set_ranks(std::move(ranks));
+    void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance) override {
+        base::set_ranks(std::move(ranks), balance);
+        if (walls_.empty()) return;
         // A wall particle within one radius of a particle takes its pressure from the fluid
-        // within one radius of it (wall_particles.hpp): ghosts up to two radii away.
-        if (!walls_.empty()) this->dist_->set_halo_depth(2);
+        // within one radius of it (wall_particles.hpp): ghosts up to two radii away. Its state
+        // is right on the rank whose slab holds it; a new cut takes it from there.
+        this->dist_->set_halo_depth(2);
+        this->dist_->before_rebalance([this] { share_wall_states(this->dist_->comm().all_gather(owned_wall_states())); });
     }
 
     void set_colliders(const std::vector<collider>& colliders) override {
@@ -360,6 +347,38 @@ private:
             if (pb > 0)
                 for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(slope * pb * double(background_sum[a]));
         });
+    }
+
+    /// Across ranks: {index, rho, p / rho^2} of the wall particles in this rank's slab.
+    rank_bytes owned_wall_states() const {
+        rank_bytes mine;
+        const int me = this->dist_->comm().rank();
+        for (std::size_t k = 0; k < walls_.size(); ++k) {
+            if (this->dist_->owner_of(this->grid_.geometry(), walls_.positions() + k * D) != me) continue;
+            const std::uint32_t index = std::uint32_t(k);
+            const std::array<float, 2> s = walls_.state(k);
+            const char* at = reinterpret_cast<const char*>(&index);
+            mine.insert(mine.end(), at, at + sizeof index);
+            at = reinterpret_cast<const char*>(s.data());
+            mine.insert(mine.end(), at, at + sizeof s);
+        }
+        return mine;
+    }
+    template <class F>
+    void for_each_wall_state(const std::vector<rank_bytes>& parts, F&& f) const {
+        constexpr std::size_t record = sizeof(std::uint32_t) + 2 * sizeof(float);
+        for (const rank_bytes& b : parts)
+            for (std::size_t at = 0; at + record <= b.size(); at += record) {
+                std::uint32_t k = 0;
+                float s[2];
+                std::memcpy(&k, b.data() + at, sizeof k);
+                std::memcpy(s, b.data() + at + sizeof k, sizeof s);
+                if (k >= walls_.size()) throw error("ranks: wall particle " + std::to_string(k) + " out of range");
+                f(std::size_t(k), s);
+            }
+    }
+    void share_wall_states(const std::vector<rank_bytes>& parts) {
+        for_each_wall_state(parts, [&](std::size_t k, const float* s) { walls_.set_state(k, {s[0], s[1]}); });
     }
 
     /// Across ranks: the ghosts' density and pressure from their owners, where a ghost's own

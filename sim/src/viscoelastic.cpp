@@ -40,7 +40,9 @@ public:
     double radius() const override { return h_; }
     double rest_density() const override { return rho0_; }
     // Its springs reach partners beyond one radius: one process only, for now.
-    void set_ranks(std::shared_ptr<rank_comm> ranks) override { solver::set_ranks(std::move(ranks)); }
+    void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance) override {
+        solver::set_ranks(std::move(ranks), balance);
+    }
 
     void step(profiler& prof) override {
         prof.set_step(this->steps_);

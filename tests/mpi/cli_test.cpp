@@ -261,26 +261,26 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.25, 0.5, 1]}],
         "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
         "sph": {"alpha": 0.3, "cfl": 0.4}, "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
-    // A layer flowing along a periodic x over a floor, stirred by a sphere.
-    write_bytes(dir / "periodic-channel.json", R"({"name": "periodic-channel", "solver": "sph", "dim": 2,
+    // A layer falling and flowing through a box periodic on both axes, stirred by a sphere.
+    write_bytes(dir / "periodic-box.json", R"({"name": "periodic-box", "solver": "sph", "dim": 2,
         "particles": {"2d": 1200, "3d": 4000}, "duration": 1, "gravity": [0, -9.81, 0],
-        "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 0, 0],
-        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1], "velocity": [1.5, 0, 0]}],
-        "colliders": [{"name": "floor", "type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]},
-                      {"name": "stone", "type": "sphere", "center": [0.5, 0.12, 0.5], "radius": 0.08}],
+        "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 1, 0],
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.4, 1], "velocity": [1.5, -1, 0]}],
+        "colliders": [{"name": "stone", "type": "sphere", "center": [0.5, 0.6, 0.5], "radius": 0.1}],
         "sph": {"alpha": 0.3}})");
     struct scene_case {
         const char* options;
         std::size_t frames;  // the first, then one every `--every` steps
         std::vector<std::pair<int, int>> ranks_threads;
+        bool rebalances = false;  // the fluid moves enough that a new cut follows it
     };
     const std::vector<scene_case> cases = {
-        {"open-dam-break.json --steps 400 --every 100", 5, {{2, 2}, {3, 1}, {4, 1}}},
+        {"open-dam-break.json --steps 400 --every 100", 5, {{2, 2}, {3, 1}, {4, 1}}, true},
         {"--scene droplet --solver sph --dim 3 --particles 2000 --steps 24 --every 12", 3, {{2, 1}}},
         // Wall particles: ghosts two radii deep.
-        {"--scene dam-break --solver sph --dim 2 --particles 1250 --steps 300 --every 100", 4, {{2, 1}, {3, 2}}},
-        // Periodic along the cut axis: particles and ghosts cross x = 0 = 1.
-        {"periodic-channel.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
+        {"--scene dam-break --solver sph --dim 2 --particles 1250 --steps 400 --every 100", 5, {{2, 1}, {3, 2}}, true},
+        // Periodic: particles and ghosts cross the box's faces.
+        {"periodic-box.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.options);
@@ -291,6 +291,7 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
             ASSERT_TRUE(std::filesystem::exists(dir / "one" / "front.csv"));
         }
         const std::size_t particles = summary_without_timings(dir / "one" / "summary.json")["particles"].get<std::size_t>();
+        std::size_t rebalances = 0;
         for (const auto& [ranks, threads] : c.ranks_threads) {
             SCOPED_TRACE(std::to_string(ranks) + " ranks of " + std::to_string(threads) + " threads");
             const std::string out = "ranks" + std::to_string(ranks);
@@ -315,6 +316,14 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
                 sum += rank["particles"].get<std::size_t>();
             }
             EXPECT_EQ(sum, particles);
+            const nlohmann::json& balance = summary["ranks"]["balance"];
+            // Every 20 steps after the first (one grid per step).
+            EXPECT_EQ(balance["checks"], (summary["steps"].get<std::size_t>() - 1) / 20) << balance.dump();
+            EXPECT_GE(balance["largest_imbalance"].get<double>(), 1.0) << balance.dump();
+            rebalances += balance["rebalances"].get<std::size_t>();
+        }
+        if (c.rebalances) {
+            EXPECT_GT(rebalances, 0u) << "no rank count cut the domain anew";
         }
     }
 }
@@ -362,11 +371,18 @@ TEST(MpiCli, SimAcrossRanksRefusesWhatItCannotRunYet) {
     write_bytes(dir / "vast.json", R"({"name": "vast", "solver": "sph", "dim": 2, "particles": {"2d": 400, "3d": 400},
         "duration": 1, "gravity": [0, -9.81, 0], "domain": {"min": [0, 0, 0], "max": [1e7, 1e7, 1]},
         "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.2, 0.2, 1]}]})");
-    const std::vector<std::string> with_scene = listing(dir);
+    // A channel: periodic along x only.
+    write_bytes(dir / "channel.json", R"({"name": "channel", "solver": "sph", "dim": 2, "particles": {"2d": 400, "3d": 400},
+        "duration": 1, "gravity": [0, -9.81, 0], "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 0, 0],
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.2, 1]}]})");
+    const std::vector<std::string> with_scenes = listing(dir);
     expect_failure(run_mpi(dir, 3, "sim vast.json --steps 2 --out run"), 1,
                    "frnn: error: a simulation across ranks needs the scene's uniform grid");
-    EXPECT_EQ(listing(dir), with_scene) << "a refused run left files";
+    expect_failure(run_mpi(dir, 2, "sim channel.json --steps 2 --out run"), 1,
+                   "frnn: error: a domain periodic on some axes only runs in one process");
+    EXPECT_EQ(listing(dir), with_scenes) << "a refused run left files";
     std::filesystem::remove(dir / "vast.json");
+    std::filesystem::remove(dir / "channel.json");
     expect_failure(run_mpi(dir, 2, "sim missing.json --out run"), 1, "frnn: error: cannot open scene file 'missing.json'");
     expect_failure(run_mpi(dir, 2, "sim --resume run"), 1, "frnn: error: --resume: no checkpoint in 'run'");
     expect_failure(run_mpi(dir, 2, "sim --scene droplet --bogus"), 2, "frnn: The following argument was not expected: --bogus");

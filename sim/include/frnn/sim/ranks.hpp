@@ -3,6 +3,7 @@
 // implementation (apps/frnn/sim_ranks_mpi.cpp); the simulation library itself does not depend
 // on MPI. Every member is a collective call: every rank makes it, in the same order.
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -26,6 +27,26 @@ public:
     virtual std::vector<rank_bytes> all_gather(const rank_bytes& mine) = 0;
     /// Every rank's `mine` on rank 0, indexed by rank; an empty list on the others.
     virtual std::vector<rank_bytes> gather(const rank_bytes& mine) = 0;
+};
+
+/// When the ranks' parts of the domain move with the fluid: every `check_every` steps, if the
+/// most loaded rank holds more than (1 + imbalance) times the mean of the particles, the cut is
+/// made anew from where the particles are. The result does not depend on it.
+struct balance_options {
+    double imbalance = 0.1;
+    std::uint32_t check_every = 20;
+};
+
+/// What the ranks did over a run (solver::ranks_report).
+struct ranks_report {
+    struct rank {
+        std::size_t particles = 0, ghosts = 0;  ///< at the end
+        std::uint64_t bytes_sent = 0;           ///< particles, ghosts and ghost refreshes, over the run
+    };
+    std::vector<rank> per_rank;
+    std::size_t checks = 0, rebalances = 0;
+    double largest_imbalance = 0;  ///< the largest of (most loaded rank / mean) at the checks
+    double mean_imbalance = 0;     ///< its mean over the checks
 };
 
 /// An error that every rank raised at the same point with the same message (a failed check of

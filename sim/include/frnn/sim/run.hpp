@@ -42,6 +42,7 @@ struct run_options {
     /// The ranks this run spans (frnn/sim/ranks.hpp); none, or one rank: one process. Across
     /// several, every rank calls run() alike: rank 0 alone writes the output folder and prints.
     std::shared_ptr<rank_comm> ranks;
+    balance_options balance;  ///< across ranks: when the cut follows the fluid
 };
 
 struct run_result {

@@ -76,17 +76,15 @@ public:
     /// step: each rank keeps the particles of its part of the domain, and every step gives the
     /// one-process result bit for bit. Throws frnn::ranks_agree_error for what does not run
     /// across ranks yet (only WCSPH in an open domain without wall particles does).
-    virtual void set_ranks(std::shared_ptr<rank_comm> ranks);
+    virtual void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance = {});
     /// Across ranks, a collective call that brings every rank's particles to rank 0, in the
     /// one-process order, for view() and save() there (the other ranks' view is then empty);
     /// nothing in one process.
     virtual void gather() {}
-    /// Across ranks, per rank at the last gather(): its particles and its ghosts (copies of
-    /// other ranks' particles within reach of its part); empty in one process.
-    struct rank_load {
-        std::size_t particles = 0, ghosts = 0;
-    };
-    virtual std::vector<rank_load> rank_loads() const { return {}; }
+    /// Across ranks, at the last gather(): each rank's particles and ghosts (copies of other
+    /// ranks' particles within reach of its part), bytes sent, and the load balance; empty
+    /// (no ranks) in one process.
+    virtual ranks_report report_ranks() const { return {}; }
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.
