@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "../frnn/launcher.hpp"
 #include "frnn/error.hpp"
 #include "frnn/sim/scene.hpp"
 #include "viewer.hpp"
@@ -21,6 +22,15 @@ frnn::sim::scene load(const frnn::view::view_options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // One window per rank would be one independent simulation each: refused, from rank 0 only
+    // (the others end quietly, so that the launcher cannot end rank 0 before its message is out).
+    if (frnn::app::launcher_ranks() > 1) {
+        if (frnn::app::launcher_rank() != 0) return 0;
+        std::fprintf(stderr, "frnn-view: the viewer runs in one process, but an MPI launcher started %ld ranks: run it "
+                             "without mpirun\n", frnn::app::launcher_ranks());
+        std::fflush(stderr);
+        return 1;
+    }
     frnn::view::view_options o;
     std::string solver;
     int dim = 0;

@@ -29,6 +29,21 @@ TEST(ViewerErrors, NoDisplay) {
     EXPECT_NE(r.err.find("frnn-view: error: cannot open a window"), std::string::npos) << r.err;
 }
 
+// Under a launcher of several ranks (its variables, without mpirun): rank 0 refuses with one
+// line, the other ranks end quietly; no window opens.
+TEST(ViewerErrors, SeveralLauncherRanksAreRefused) {
+    const scratch_dir dir("viewer_launcher_ranks");
+    const auto first = run_in(dir, "OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0 '" FRNN_VIEW_PATH "' --scene droplet --frames 2");
+    EXPECT_EQ(first.code, 1);
+    EXPECT_EQ(lines(first.err), 1) << first.err;
+    EXPECT_NE(first.err.find("frnn-view: the viewer runs in one process, but an MPI launcher started 2 ranks"),
+              std::string::npos)
+        << first.err;
+    const auto other = run_in(dir, "PMI_SIZE=3 PMI_RANK=2 '" FRNN_VIEW_PATH "' --scene droplet --frames 2");
+    EXPECT_EQ(other.code, 0);
+    EXPECT_TRUE(other.err.empty()) << other.err;
+}
+
 TEST(ViewerErrors, BadScriptNamesTheAction) {
     const scratch_dir dir("viewer_bad_script");
     write_text(dir / "script.json", R"({"actions": [{"frame": 1, "do": "play"}, {"frame": 2, "do": "jump"}]})");
