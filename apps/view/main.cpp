@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "../frnn/launcher.hpp"
+#include "launcher.hpp"  // apps/frnn: how the tool tells a launcher
 #include "frnn/error.hpp"
 #include "frnn/sim/scene.hpp"
 #include "viewer.hpp"

@@ -18,7 +18,8 @@ namespace {
 constexpr ImU32 segment_colors[] = {
     IM_COL32(31, 119, 180, 255), IM_COL32(255, 127, 14, 255), IM_COL32(44, 160, 44, 255),  IM_COL32(214, 39, 40, 255),
     IM_COL32(148, 103, 189, 255), IM_COL32(140, 86, 75, 255), IM_COL32(227, 119, 194, 255), IM_COL32(188, 189, 34, 255),
-    IM_COL32(23, 190, 207, 255),  IM_COL32(127, 127, 127, 255), IM_COL32(240, 240, 240, 255)};
+    IM_COL32(23, 190, 207, 255),  IM_COL32(255, 187, 120, 255), IM_COL32(127, 127, 127, 255),
+    IM_COL32(240, 240, 240, 255)};
 static_assert(std::size(segment_colors) >= std::size_t(sim::stage::count) + 1);
 
 struct segment {

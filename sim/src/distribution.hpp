@@ -77,6 +77,7 @@ public:
             else if (!first) pack(moving[std::size_t(q)], i, id);  // on the first call q has it too
         }
         std::vector<rank_bytes> arrived = exchange(moving);
+        const std::size_t stayed = staying.size();
         select(staying, id);
         for (const rank_bytes& b : arrived) unpack(b, id, 0);
         owned_ = id.size();
@@ -96,9 +97,14 @@ public:
             for (std::size_t i = before; i < id.size(); ++i) got[std::size_t(q)].push_back(std::uint32_t(i));
         }
         // The one-process order of the last step (the grid's sort keeps it inside each cell).
+        // The particles that stayed are in it already: the others are sorted and merged in.
         std::vector<std::uint32_t> order(id.size());
         std::iota(order.begin(), order.end(), 0u);
-        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key_[a] < key_[b]; });
+        const auto before = [&](std::uint32_t a, std::uint32_t b) { return key_[a] < key_[b]; };
+        const auto merged = order.begin() + std::ptrdiff_t(stayed);
+        if (!std::is_sorted(order.begin(), merged, before)) std::sort(order.begin(), merged, before);
+        std::sort(merged, order.end(), before);
+        std::inplace_merge(order.begin(), merged, order.end(), before);
         permute(order, id);
         tag_ = std::move(order);  // tag_[s]: the index before this sort, for the exchange lists
         sent_ = std::move(sent);

@@ -174,10 +174,12 @@ protected:
     /// (distribution.hpp) before the grid sorts them.
     template <class... Arrays>
     void rebuild_distributed(profiler& prof, double, Arrays&... arrays) {
-        serial(prof, stage::grid, [&] {
+        serial(prof, stage::exchange, [&] {
             std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, arrays.size() / n_}...};
             dist_->redistribute(grid_.geometry(), fields, id_);
             n_ = id_.size();
+        });
+        serial(prof, stage::grid, [&] {
             try {
                 grid_.rebuild(std::span<const float>(x_));
             } catch (const error&) {

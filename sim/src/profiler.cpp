@@ -23,6 +23,7 @@ const char* to_string(stage s) {
         case stage::forces: return "forces";
         case stage::collisions: return "collisions";
         case stage::integration: return "integration";
+        case stage::exchange: return "rank exchange";
         case stage::output: return "output";
         case stage::count: break;
     }

@@ -315,7 +315,7 @@ private:
             // The pressure term of the momentum equation, once per particle, not per pair.
             velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
         });
-        if (this->dist_) refresh_ghosts();
+        if (this->dist_) serial(prof, stage::exchange, [&] { refresh_ghosts(); });
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         if (wall_particles) {
             walls_.extrapolate(

@@ -16,7 +16,7 @@
 
 namespace frnn::sim {
 
-enum class stage { grid, neighbors, viscosity, springs, relaxation, density, forces, collisions, integration, output, count };
+enum class stage { grid, neighbors, viscosity, springs, relaxation, density, forces, collisions, integration, exchange, output, count };
 const char* to_string(stage s);
 
 class profiler {
