@@ -82,8 +82,9 @@ def main():
             ghosts = sum(r["ghosts"] for r in per_rank)
             sent = sum(r["bytes_sent"] for r in per_rank)
             share = s["mean_ms_per_step"].get("rank exchange", 0) / s["step_ms_without_output"]
+            balance = s["ranks"]["balance"]
             cells = [f"{100 * share:.1f}%", f"{ghosts / n:.3f}", f"{sent / n / s['steps']:.1f}",
-                     f"{s['ranks']['balance']['largest_imbalance']:.3f}"]
+                     f"{balance['largest_imbalance']:.3f}" if balance["checks"] else "no check"]
         t = times[name]
         print(f"| {name} | {med[name]:.1f} | {min(t):.1f}-{max(t):.1f} | " + " | ".join(cells) + " |")
     t1, t2 = med[configs[0][0]], med[configs[2][0]]
