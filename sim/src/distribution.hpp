@@ -58,7 +58,8 @@ public:
 
     /// Before the grid is built: drops last step's ghosts, moves every particle to the rank that
     /// owns its cell plane, adds this step's ghosts and sorts everything by key. fields[0] is
-    /// the position. On the first call every rank holds every particle, in id order.
+    /// the position. On the first call every rank holds every particle, in the order of the
+    /// one-process arrays (the seeding's, or a checkpoint's).
     void redistribute(const grid_geometry<float>& g, const std::vector<carried_field>& fields,
                       std::vector<std::uint32_t>& id) {
         fields_ = fields;
@@ -101,10 +102,10 @@ public:
         std::vector<std::uint32_t> order(id.size());
         std::iota(order.begin(), order.end(), 0u);
         const auto before = [&](std::uint32_t a, std::uint32_t b) { return key_[a] < key_[b]; };
-        const auto merged = order.begin() + std::ptrdiff_t(stayed);
-        if (!std::is_sorted(order.begin(), merged, before)) std::sort(order.begin(), merged, before);
-        std::sort(merged, order.end(), before);
-        std::inplace_merge(order.begin(), merged, order.end(), before);
+        const auto arrivals = order.begin() + std::ptrdiff_t(stayed);
+        if (!std::is_sorted(order.begin(), arrivals, before)) std::sort(order.begin(), arrivals, before);
+        std::sort(arrivals, order.end(), before);
+        std::inplace_merge(order.begin(), arrivals, order.end(), before);
         permute(order, id);
         tag_ = std::move(order);  // tag_[s]: the index before this sort, for the exchange lists
         sent_ = std::move(sent);

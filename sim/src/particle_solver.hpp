@@ -180,12 +180,9 @@ protected:
             n_ = id_.size();
         });
         serial(prof, stage::grid, [&] {
-            try {
-                grid_.rebuild(std::span<const float>(x_));
-            } catch (const error&) {
-                check_finite(steps_ + 1);
-                throw;
-            }
+            // A failure here is this rank's alone (the positions were checked at the end of the
+            // last step): no collective call, the tool ends the job with its message.
+            grid_.rebuild(std::span<const float>(x_));
             check_cells();
             grid_.reorder(std::span<float>(x_), D);
             grid_.reorder(std::span<float>(v_), D);

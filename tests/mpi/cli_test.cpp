@@ -282,8 +282,13 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         // Periodic: particles and ghosts cross the box's faces.
         {"periodic-box.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
     };
+    const std::vector<int> counts = rank_counts();  // the sanitizer tree: fewer
     for (const auto& c : cases) {
         SCOPED_TRACE(c.options);
+        std::vector<std::pair<int, int>> runs;
+        for (const auto& rt : c.ranks_threads)
+            if (std::find(counts.begin(), counts.end(), rt.first) != counts.end()) runs.push_back(rt);
+        if (runs.empty()) continue;
         const std::string common = std::string("sim ") + c.options + " --quiet";
         const auto one = run_command(dir, tool + " " + common + " --threads 1 --out one");
         ASSERT_EQ(one.code, 0) << one.err;
@@ -292,7 +297,7 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         }
         const std::size_t particles = summary_without_timings(dir / "one" / "summary.json")["particles"].get<std::size_t>();
         std::size_t rebalances = 0;
-        for (const auto& [ranks, threads] : c.ranks_threads) {
+        for (const auto& [ranks, threads] : runs) {
             SCOPED_TRACE(std::to_string(ranks) + " ranks of " + std::to_string(threads) + " threads");
             const std::string out = "ranks" + std::to_string(ranks);
             const auto r = run_mpi(dir, ranks, common + " --threads " + std::to_string(threads) + " --out " + out);
@@ -322,7 +327,7 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
             EXPECT_GE(balance["largest_imbalance"].get<double>(), 1.0) << balance.dump();
             rebalances += balance["rebalances"].get<std::size_t>();
         }
-        if (c.rebalances) {
+        if (c.rebalances && runs.size() == c.ranks_threads.size()) {
             EXPECT_GT(rebalances, 0u) << "no rank count cut the domain anew";
         }
     }
