@@ -105,6 +105,14 @@ public:
         report_ = dist_->report();
     }
     ranks_report report_ranks() const override { return report_; }
+    double largest_coordinate(int axis) override {
+        if (!dist_ || !dist_->started()) return solver::largest_coordinate(axis);
+        const double mine = reduce(
+            n_, threads_, -std::numeric_limits<double>::infinity(),
+            [&](std::size_t i) { return owned(i) ? double(x_[i * D + std::size_t(axis)]) : -std::numeric_limits<double>::infinity(); },
+            [](double a, double b) { return std::max(a, b); });
+        return dist_->max(mine);  // a max is exact in any order
+    }
     double time() const override { return time_; }
     std::uint64_t steps() const override { return steps_; }
     double last_dt() const override { return last_dt_; }

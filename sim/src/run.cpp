@@ -52,11 +52,10 @@ std::string timestamp() {
     return buf;
 }
 
-/// Surge front along the probe axis, in units of a, from the particles' extent.
-double front_Z(const particle_view& p, const front_probe& f, double spacing) {
-    double m = -1e300;
-    for (std::size_t i = 0; i < p.n; ++i) m = std::max(m, double(p.x[i * std::size_t(p.dim) + std::size_t(f.axis)]));
-    return (m + spacing / 2 - f.origin) / f.a;
+/// Surge front along the probe axis, in units of a, from the particles' extent (across ranks a
+/// collective call: a largest coordinate over the ranks, not a gather).
+double front_Z(solver& sol, const front_probe& f) {
+    return (sol.largest_coordinate(f.axis) + sol.spacing() / 2 - f.origin) / f.a;
 }
 
 class progress_meter {
@@ -179,8 +178,16 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
     summary["threads"] = threads;
     if (const ranks_report ranks = sol.report_ranks(); !ranks.per_rank.empty()) {
         json per_rank = json::array();
+        std::size_t total = 0;
+        for (const auto& r : ranks.per_rank) total += r.particles;
         for (const auto& r : ranks.per_rank)
-            per_rank.push_back({{"particles", r.particles}, {"ghosts", r.ghosts}, {"bytes_sent", r.bytes_sent}});
+            per_rank.push_back({{"particles", r.particles},
+                                {"load", total ? double(r.particles * ranks.per_rank.size()) / double(total) : 0.0},
+                                {"ghosts", r.ghosts},
+                                {"bytes_sent", r.bytes_sent},
+                                {"exchange_ms_per_step", r.exchange_ms},
+                                {"waiting_ms_per_step", r.waiting_ms},
+                                {"local_ms_per_step", r.local_ms}});
         summary["ranks"] = {{"count", ranks.per_rank.size()},
                             {"per_rank", per_rank},
                             {"balance",
@@ -292,8 +299,7 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
         if (!sc.front.enabled) return;
         const double T = sol.time() * std::sqrt(2 * g / sc.front.a);
         if (T + 1e-12 < st.next_front_T) return;
-        sol.gather();
-        st.front.emplace_back(T, front_Z(sol.view(), sc.front, sol.spacing()));
+        st.front.emplace_back(T, front_Z(sol, sc.front));
         while (st.next_front_T <= T + 1e-12) st.next_front_T += sc.front.every_T;
     };
     auto done = [&] {

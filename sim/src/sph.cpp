@@ -300,6 +300,8 @@ private:
             return sph_row{i, neighbors_.begin(i), neighbors_.end(i), walls_.begin(i), walls_.end(i)};
         };
         parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
+            for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
+            if (!this->owned(i)) return;  // a ghost takes its owner's density (refresh_ghosts)
             float fluid = 0, wall = 0;  // sum_j w_ij, sum_w w_iw rho_w
             pairs_.density(view, row(i), &fluid, &wall);
             double rho = mass_ * norm * (1 + double(fluid) + double(wall) * inv_rho0);
@@ -311,7 +313,6 @@ private:
             rho_[i] = float(rho);
             p_[i] = pressure(float(rho));
             position_[4 * i + 3] = rho_[i];
-            for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
             // The pressure term of the momentum equation, once per particle, not per pair.
             velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
         });
@@ -328,6 +329,7 @@ private:
         // m dW/dr = m 6 norm / R g(q) (sph_pairs_impl.hpp).
         const double slope = mass_ * 6 * norm / R, nu = laminar() ? prm_.nu : 0, pb = prm_.background_pressure;
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
+            if (!this->owned(i)) return;  // a ghost's own row lacks the neighbors beyond the halo
             float pressure_sum[D], laminar_sum[D], background_sum[D];
             pairs_.forces(view, row(i), pressure_sum, laminar_sum, background_sum);
             double acc[D];

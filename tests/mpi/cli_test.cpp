@@ -366,6 +366,37 @@ TEST(MpiCli, SimResumedAcrossRanksIsTheOneProcessRun) {
 }
 #endif
 
+// A rank killed mid-run ends the job (the only time limit is `timeout`'s). What was written
+// before is complete: the frames are the uninterrupted run's, and the last checkpoint resumes,
+// in one process, to the uninterrupted run's end.
+TEST(MpiCli, SimWithAKilledRankEndsAndItsCheckpointResumes) {
+    const scratch_dir dir("mpi_cli_sim_killed");
+    const std::string options = "sim --scene dam-break --solver sph --dim 2 --particles 1250 --steps 200 --every 20 --quiet "
+                                "--threads 1";
+    const auto whole = run_command(dir, tool + " " + options + " --out whole");
+    ASSERT_EQ(whole.code, 0) << whole.err;
+    // Three exchanges a step: rank 1 dies in step 130 (frames every 20 steps, the checkpoint
+    // at step 100).
+    const auto r = run_command(dir, "FRNN_TEST_KILL_RANK=1 FRNN_TEST_KILL_EXCHANGE=390 FRNN_NUM_THREADS=1 timeout 60 " +
+                                        mpirun + " -np 2 " + tool + " " + options + " --out cut");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.code, 124) << "mpirun still ran after 60 s: rank 0 was left waiting";
+    EXPECT_NE(r.err.find("exited on signal 9"), std::string::npos) << r.err;
+    std::vector<std::string> frames;
+    for (const auto& e : std::filesystem::directory_iterator(dir / "cut" / "frames")) {
+        frames.push_back(e.path().filename().string());
+        EXPECT_TRUE(read_bytes(e.path()) == read_bytes(dir / "whole" / "frames" / e.path().filename()))
+            << e.path().filename() << " differs from the uninterrupted run's";
+    }
+    EXPECT_EQ(frames.size(), 7u) << "the frames of steps 0 to 120";
+    const auto resumed = run_command(dir, tool + " sim --resume cut --quiet --threads 1");
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    for (const auto& e : std::filesystem::directory_iterator(dir / "whole" / "frames"))
+        EXPECT_TRUE(read_bytes(e.path()) == read_bytes(dir / "cut" / "frames" / e.path().filename())) << e.path().filename();
+    for (const char* file : {"checkpoint.bin", "particles.pvd", "front.csv"})
+        EXPECT_TRUE(read_bytes(dir / "whole" / file) == read_bytes(dir / "cut" / file)) << file << " differs";
+}
+
 // What does not run across ranks yet stops every rank with one message, before any file.
 TEST(MpiCli, SimAcrossRanksRefusesWhatItCannotRunYet) {
     const scratch_dir dir("mpi_cli_sim_refusals");

@@ -75,7 +75,8 @@ public:
     /// Runs this simulation as one of several ranks (frnn/sim/ranks.hpp), before its first
     /// step: each rank keeps the particles of its part of the domain, and every step gives the
     /// one-process result bit for bit. Throws frnn::ranks_agree_error for what does not run
-    /// across ranks yet (only WCSPH in an open domain without wall particles does).
+    /// across ranks yet (docs/SCALING.md: the viscoelastic solver, domains periodic on some
+    /// axes only, domains that need the hashed grid).
     virtual void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance = {});
     /// Across ranks, a collective call that brings every rank's particles to rank 0, in the
     /// one-process order, for view() and save() there (the other ranks' view is then empty);
@@ -85,6 +86,9 @@ public:
     /// ranks' particles within reach of its part), bytes sent, and the load balance; empty
     /// (no ranks) in one process.
     virtual ranks_report report_ranks() const { return {}; }
+    /// The largest coordinate of any particle along `axis` (-infinity for none). Across ranks
+    /// a collective call, the same on every rank, without gathering the particles.
+    virtual double largest_coordinate(int axis);
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.
