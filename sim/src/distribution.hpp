@@ -257,6 +257,38 @@ public:
         }
     }
 
+    /// The owned particles of every rank moved to the rank whose share of the ids holds theirs
+    /// (rank q of P: [total q / P, total (q + 1) / P)), in any order: the fields given (one
+    /// float array each, `components` values per particle) and the ids.
+    void share_by_id(const std::vector<carried_field>& fields, const std::vector<std::uint32_t>& id, std::size_t total,
+                     std::vector<std::vector<float>>& out, std::vector<std::uint32_t>& out_id) {
+        span_timer timed{step_output_};
+        const std::size_t ranks = std::size_t(comm_->size());
+        std::vector<rank_bytes> send(ranks);
+        for (std::size_t s = 0; s < ghost_.size(); ++s) {
+            if (ghost_[s]) continue;
+            std::size_t q = std::min(ranks - 1, std::size_t(std::uint64_t(id[s]) * ranks / std::max<std::size_t>(total, 1)));
+            while (q > 0 && total * q / ranks > id[s]) --q;
+            while (q + 1 < ranks && total * (q + 1) / ranks <= id[s]) ++q;
+            append(send[q], id[s]);
+            for (const auto& f : fields)
+                for (std::size_t c = 0; c < f.components; ++c) append(send[q], (*f.data)[s * f.components + c]);
+        }
+        std::size_t floats = 0;
+        for (const auto& f : fields) floats += f.components;
+        const std::size_t record = sizeof(std::uint32_t) + floats * sizeof(float);
+        out.assign(fields.size(), {});
+        out_id.clear();
+        for (const rank_bytes& b : comm_->exchange(send)) {
+            if (b.size() % record) throw error("ranks: a frame message of " + std::to_string(b.size()) + " bytes");
+            for (std::size_t at = 0; at < b.size();) {
+                out_id.push_back(value_of<std::uint32_t>(b, at)), at += sizeof(std::uint32_t);
+                for (std::size_t f = 0; f < fields.size(); ++f)
+                    for (std::size_t c = 0; c < fields[f].components; ++c) out[f].push_back(value_of<float>(b, at)), at += sizeof(float);
+            }
+        }
+    }
+
 private:
     template <class U>
     static void append(rank_bytes& b, const U& v) {

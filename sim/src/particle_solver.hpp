@@ -69,6 +69,7 @@ public:
         p_.assign(n_, 0);
         id_.resize(n_);
         for (std::size_t i = 0; i < n_; ++i) id_[i] = std::uint32_t(i);
+        total_ = n_;
         periodic_ = s.is_periodic();
         if (periodic_) {
             for (int a = 0; a < D; ++a) box_[a] = float(s.periodic[a]);  // 0: an open axis
@@ -103,6 +104,26 @@ public:
         for (const carried_field& f : extra_fields()) fields.push_back(f);
         dist_->gather(fields, id_, gathered_, gathered_id_);
         report_ = dist_->report();
+    }
+    particle_view id_share() override {
+        if (!dist_) return view();
+        const std::size_t rank = std::size_t(dist_->comm().rank()), ranks = std::size_t(dist_->comm().size());
+        const std::size_t first = total_ * rank / ranks, end = total_ * (rank + 1) / ranks;
+        std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&rho_, 1}, {&p_, 1}};
+        if (dist_->started()) {
+            dist_->share_by_id(fields, id_, total_, share_, share_id_);
+        } else {  // every rank holds every particle
+            share_.assign(fields.size(), {});
+            share_id_.clear();
+            for (std::size_t i = 0; i < n_; ++i) {
+                if (id_[i] < first || id_[i] >= end) continue;
+                share_id_.push_back(id_[i]);
+                for (std::size_t f = 0; f < fields.size(); ++f)
+                    for (std::size_t c = 0; c < fields[f].components; ++c)
+                        share_[f].push_back((*fields[f].data)[i * fields[f].components + c]);
+            }
+        }
+        return {D, share_id_.size(), share_[0].data(), share_[1].data(), share_[2].data(), share_[3].data(), share_id_.data()};
     }
     ranks_report report_ranks() const override { return report_; }
     double largest_coordinate(int axis) override {
@@ -159,7 +180,7 @@ protected:
     bool owned(std::size_t i) const { return !dist_ || !dist_->ghost(i); }
 
     /// Builds (first call) or rebuilds the grid over x and permutes x and every extra array
-    /// (components per particle given with it) into cell order.
+    /// (D values per particle, as x) into cell order. Across ranks a rank may hold no particle.
     template <class... Arrays>
     void rebuild_grid(profiler& prof, double radius, Arrays&... arrays) {
         if (dist_) return rebuild_distributed(prof, radius, arrays...);
@@ -173,7 +194,7 @@ protected:
             grid_.reorder(std::span<float>(x_), D);
             grid_.reorder(std::span<float>(v_), D);
             grid_.reorder(std::span<std::uint32_t>(id_), 1);
-            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), D), ...);
         });
         neighbors_.build(grid_, prof);
     }
@@ -183,7 +204,7 @@ protected:
     template <class... Arrays>
     void rebuild_distributed(profiler& prof, double, Arrays&... arrays) {
         serial(prof, stage::exchange, [&] {
-            std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, arrays.size() / n_}...};
+            std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, D}...};
             dist_->redistribute(grid_.geometry(), fields, id_);
             n_ = id_.size();
         });
@@ -195,7 +216,7 @@ protected:
             grid_.reorder(std::span<float>(x_), D);
             grid_.reorder(std::span<float>(v_), D);
             grid_.reorder(std::span<std::uint32_t>(id_), 1);
-            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), D), ...);
             dist_->reorder(grid_);
             dist_->sorted(grid_, x_);
             rho_.resize(n_);
@@ -409,6 +430,9 @@ protected:
     grid_geometry<float> cells_;             // across ranks: the one-process grid's cells
     std::vector<std::vector<float>> gathered_;  // gather(): x, v, rho, p, then extra_fields()
     std::vector<std::uint32_t> gathered_id_;
+    std::size_t total_ = 0;                   // the particles of all ranks
+    std::vector<std::vector<float>> share_;  // id_share(): x, v, rho, p
+    std::vector<std::uint32_t> share_id_;
     ranks_report report_;
 };
 

@@ -278,22 +278,28 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
 
     auto write_frame = [&] {
         const stage_timer timer(prof, stage::output);
-        sol.gather();
-        const particle_view v = sol.view();
         const std::size_t k = st.frames.size();
+        const std::string vtp = "frames/" + frame_name(k, "vtp");
+        // Across ranks every rank writes its part of the frame; the pictures are drawn on
+        // rank 0 from the gathered particles.
+        const bool across = opt.ranks && opt.ranks->size() > 1;
+        if (opt.write_frames && across) write_vtp(dir + "/" + vtp, sol.id_share(), *opt.ranks);
+        const bool pictures = opt.png || opt.video;
+        if (pictures) sol.gather();
         if (!root) {
             st.frames.emplace_back(sol.time(), "");
             return;
         }
         if (opt.write_frames) {
-            write_vtp(dir + "/frames/" + frame_name(k, "vtp"), v);
-            st.frames.emplace_back(sol.time(), "frames/" + frame_name(k, "vtp"));
+            if (!across) write_vtp(dir + "/" + vtp, sol.view());
+            st.frames.emplace_back(sol.time(), vtp);
             write_pvd(dir + "/particles.pvd", st.frames);
         } else {
             st.frames.emplace_back(sol.time(), "");
         }
-        if (opt.png || opt.video)
-            io::write_file_atomically(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
+        if (pictures)
+            io::write_file_atomically(dir + "/png/" + frame_name(k, "png"),
+                                      encode_png(render(sol.view(), sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
     };
     auto record_front = [&] {
         if (!sc.front.enabled) return;

@@ -82,6 +82,10 @@ public:
     /// one-process order, for view() and save() there (the other ranks' view is then empty);
     /// nothing in one process.
     virtual void gather() {}
+    /// Across ranks, a collective call that gives rank r of P the particles whose ids are in
+    /// [N r / P, N (r + 1) / P) of all N, in any order, for a frame every rank writes its part
+    /// of (write_vtp with ranks, frnn/sim/output.hpp). In one process: view().
+    virtual particle_view id_share() { return view(); }
     /// Across ranks, at the last gather(): each rank's particles and ghosts (copies of other
     /// ranks' particles within reach of its part), bytes sent, and the load balance; empty
     /// (no ranks) in one process.
