@@ -87,9 +87,6 @@ public:
 
     void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance) override {
         if (built_) throw error("set_ranks: call it before the first step");
-        for (int a = 0; a < D; ++a)
-            if (periodic_ && !(box_[a] > 0))  // its open axes would span each rank's own particles
-                throw ranks_agree_error("a domain periodic on some axes only runs in one process, not across ranks yet");
         build_or_rebuild(radius());  // the one-process grid's cells, which the ranks share out
         if (grid_.kind() != grid_kind::uniform)
             throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid (this domain needs the "
@@ -225,9 +222,9 @@ protected:
         neighbors_.build(grid_, prof);
     }
 
-    /// A rank's grid must have the one-process grid's cells (their order is the row order). A
-    /// grid sizes a sparse periodic box's cells by its point count: a rank with too few
-    /// particles for the box would get others, so it stops the job instead.
+    /// A rank's grid must have the one-process grid's cells (their order is the row order).
+    /// They are laid out for all the particles over the scene's domain (build_or_rebuild), so
+    /// any part of the particles gets them; checked, as a wrong order would go unnoticed.
     void check_cells() const {
         const grid_geometry<float>& g = grid_.geometry();
         for (int a = 0; a < D; ++a)
@@ -235,7 +232,7 @@ protected:
                 g.kind != cells_.kind || g.reach != cells_.reach)
                 throw error("this rank's " + std::to_string(n_) + " particles and ghosts do not give the one-process grid's "
                             "cells (" + std::to_string(g.dims[a]) + " instead of " + std::to_string(cells_.dims[a]) +
-                            " along axis " + std::to_string(a) + "): run on fewer ranks");
+                            " along axis " + std::to_string(a) + ")");
     }
 
     void build_or_rebuild(double radius) {
@@ -243,18 +240,18 @@ protected:
             grid_options o;
             o.kind = grid_kind::uniform;
             o.threads = threads_;
-            if (periodic_) {
+            // A fixed domain (the scene's, padded; a periodic axis spans its box) laid out for
+            // all the particles keeps the cells, and so the neighbor order, a function of the
+            // positions alone: the same on every rank, whatever part of them it holds.
+            if (periodic_)
                 for (int a = 0; a < D; ++a) o.periodic.push_back(box_[a]);
-            } else {
-                // A fixed domain (the scene's, padded) keeps the cell layout, and so the
-                // neighbor order, a function of the positions alone.
-                o.domain_min.resize(D);
-                o.domain_max.resize(D);
-                for (int a = 0; a < D; ++a) {
-                    o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
-                    o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
-                }
+            o.domain_min.resize(D);
+            o.domain_max.resize(D);
+            for (int a = 0; a < D; ++a) {
+                o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
+                o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
             }
+            o.layout_points = total_;
             try {
                 grid_.build(std::span<const float>(x_), float(radius), o);
             } catch (const error&) {
