@@ -292,6 +292,8 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         {"periodic-box.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
         // Periodic on one axis: the open one spans the scene's domain on every rank.
         {"channel.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}, {4, 1}}},
+        // The shipped scene with a scripted collider (a paddle sweeping the floor).
+        {"--scene block-drop --solver sph --dim 2 --particles 1500 --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
         // 2 particles: ranks without particles, and without a share of a frame's ids.
         {"--scene dam-break --solver sph --dim 2 --particles 2 --steps 40 --every 20", 3, {{3, 1}, {4, 1}}, false, true},
     };
@@ -413,6 +415,29 @@ TEST(MpiCli, SimWithAKilledRankEndsAndItsCheckpointResumes) {
         EXPECT_TRUE(read_bytes(e.path()) == read_bytes(dir / "cut" / "frames" / e.path().filename())) << e.path().filename();
     for (const char* file : {"checkpoint.bin", "particles.pvd", "front.csv"})
         EXPECT_TRUE(read_bytes(dir / "whole" / file) == read_bytes(dir / "cut" / file)) << file << " differs";
+}
+
+// An instability found on one rank (a ram hits the fluid at 40 m/s on the rank whose slab it
+// reaches) stops every rank with the one-process message, printed once.
+TEST(MpiCli, SimInstabilityStopsEveryRankWithTheOneProcessMessage) {
+    const scratch_dir dir("mpi_cli_sim_unstable");
+    write_bytes(dir / "ram.json", R"({"name": "ram", "solver": "sph", "dim": 2, "particles": {"2d": 800, "3d": 800},
+        "duration": 1, "gravity": [0, -9.81, 0], "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "fluid": [{"type": "box", "min": [0.2, 0.2, 0], "max": [0.5, 0.5, 1], "velocity": [0, -0.5, 0]}],
+        "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [0.5, 0.5, 0.5], "half": [0.5, 0.5, 0.5]},
+                      {"name": "ram", "type": "sphere", "center": [0.35, 0.9, 0.5], "radius": 0.1,
+                       "motion": {"velocity": [0, -40, 0]}}],
+        "sph": {"sound_speed": 1e-4, "cfl": 1, "max_dt": 1}})");
+    const auto one = run_command(dir, tool + " sim ram.json --steps 100 --quiet --threads 1 --out one");
+    ASSERT_EQ(one.code, 1) << one.err;
+    const std::size_t at = one.err.find("frnn: error: simulation unstable at step");
+    ASSERT_NE(at, std::string::npos) << one.err;
+    const std::string message = one.err.substr(at, one.err.find('\n', at) - at);
+    for (int ranks : rank_counts()) {
+        if (ranks < 2) continue;
+        SCOPED_TRACE(std::to_string(ranks) + " ranks");
+        expect_failure(run_mpi(dir, ranks, "sim ram.json --steps 100 --quiet --out ranks" + std::to_string(ranks)), 1, message);
+    }
 }
 
 // What does not run across ranks yet stops every rank with one message, before any file.
