@@ -285,7 +285,8 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
     };
     const std::vector<scene_case> cases = {
         {"open-dam-break.json --steps 400 --every 100", 5, {{2, 2}, {3, 1}, {4, 1}}, true},
-        {"--scene droplet --solver sph --dim 3 --particles 2000 --steps 24 --every 12", 3, {{2, 1}}},
+        // With PNG pictures, drawn on rank 0 from the gathered particles: the same bytes.
+        {"--scene droplet --solver sph --dim 3 --particles 2000 --steps 24 --every 12 --png", 3, {{2, 1}}},
         // Wall particles: ghosts two radii deep.
         {"--scene dam-break --solver sph --dim 2 --particles 1250 --steps 400 --every 100", 5, {{2, 1}, {3, 2}}, true},
         // Periodic: particles and ghosts cross the box's faces.
@@ -324,6 +325,15 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
                 ++frames;
             }
             EXPECT_EQ(frames, c.frames);
+            if (std::string(c.options).find("--png") != std::string::npos) {
+                std::size_t pictures = 0;
+                for (const auto& e : std::filesystem::directory_iterator(dir / "one" / "png")) {
+                    EXPECT_TRUE(read_bytes(e.path()) == read_bytes(dir / out / "png" / e.path().filename()))
+                        << e.path().filename() << " differs";
+                    ++pictures;
+                }
+                EXPECT_EQ(pictures, c.frames);
+            }
             for (const char* file : {"checkpoint.bin", "particles.pvd", "front.csv"})
                 EXPECT_TRUE(read_bytes(dir / "one" / file) == read_bytes(dir / out / file)) << file << " differs";
             EXPECT_EQ(summary_without_timings(dir / "one" / "summary.json"), summary_without_timings(dir / out / "summary.json"));
