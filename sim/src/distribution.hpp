@@ -18,6 +18,7 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "frnn/grid.hpp"
@@ -82,11 +83,12 @@ public:
         const std::size_t count = std::size_t(ranks);
         std::vector<rank_bytes> moving(count);
         std::vector<std::size_t> staying;
+        departures_.clear();
         for (std::size_t i = 0; i < n; ++i) {
             if (!first && ghost_[i]) continue;
             const int q = owner(plane(g, i));
             if (q == me) staying.push_back(i);
-            else if (!first) pack(moving[std::size_t(q)], i, id);  // on the first call q has it too
+            else if (!first) pack(moving[std::size_t(q)], i, id), departures_.emplace_back(id[i], q);  // on the first call q has it too
         }
         // Arrivals and ghosts are appended to the arrays (after the n slots of last step), and
         // one permutation then takes the slots kept, in key order, into this step's arrays.
@@ -156,21 +158,35 @@ public:
 
     /// Each ghost takes its owner's values of these arrays (one value per particle).
     void refresh(std::initializer_list<std::vector<float>*> arrays) {
+        std::vector<carried_field> fields;
+        for (auto* a : arrays) fields.push_back({a, 1});
+        refresh(fields);
+    }
+    /// The same for arrays of `components` values per particle.
+    void refresh(const std::vector<carried_field>& fields) {
         span_timer timed{step_exchange_};
         const std::size_t ranks = std::size_t(comm_->size());
+        std::size_t floats = 0;
+        for (const auto& f : fields) floats += f.components;
         std::vector<rank_bytes> out(ranks);
         for (std::size_t q = 0; q < ranks; ++q)
             for (std::uint32_t s : sent_[q])
-                for (const auto* a : arrays) append(out[q], (*a)[s]);
+                for (const auto& f : fields)
+                    for (std::size_t c = 0; c < f.components; ++c) append(out[q], (*f.data)[s * f.components + c]);
         const std::vector<rank_bytes> in = exchange(out);
         for (std::size_t q = 0; q < ranks; ++q) {
             const char* at = in[q].data();
-            if (in[q].size() != got_[q].size() * arrays.size() * sizeof(float))
+            if (in[q].size() != got_[q].size() * floats * sizeof(float))
                 throw error("ranks: ghost refresh from rank " + std::to_string(q) + " has the wrong size");
             for (std::uint32_t s : got_[q])
-                for (auto* a : arrays) std::memcpy(&(*a)[s], at, sizeof(float)), at += sizeof(float);
+                for (const auto& f : fields)
+                    for (std::size_t c = 0; c < f.components; ++c)
+                        std::memcpy(&(*f.data)[s * f.components + c], at, sizeof(float)), at += sizeof(float);
         }
     }
+
+    /// The ids of the particles the last redistribute() sent to other ranks, and where to.
+    const std::vector<std::pair<std::uint32_t, int>>& departures() const { return departures_; }
 
     /// The rank whose slab holds point x (D floats).
     int owner_of(const grid_geometry<float>& g, const float* x) const {
@@ -516,6 +532,7 @@ private:
     std::size_t owned_ = 0;
     std::vector<std::vector<std::uint32_t>> sent_, got_;  ///< ghost exchange lists, per rank
     std::size_t slots_before_ = 0;  ///< the arrays' length before the last permute()
+    std::vector<std::pair<std::uint32_t, int>> departures_;  ///< (id, rank) of the last redistribute()
     std::vector<std::vector<float>> spare_fields_;  ///< permute()'s spare arrays
     std::vector<std::uint32_t> spare_id_;
     std::vector<order_key> spare_key_;

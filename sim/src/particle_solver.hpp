@@ -174,7 +174,7 @@ protected:
     bool gathered() const { return dist_ && !gathered_.empty(); }
 
     /// Whether particle i is this rank's (always in one process; not a ghost across ranks).
-    bool owned(std::size_t i) const { return !dist_ || !dist_->ghost(i); }
+    bool owned(std::size_t i) const { return !dist_ || !dist_->started() || !dist_->ghost(i); }
 
     /// Builds (first call) or rebuilds the grid over x and permutes x and every extra array
     /// (D values per particle, as x) into cell order. Across ranks a rank may hold no particle.
@@ -289,11 +289,13 @@ protected:
         });
     }
 
-    /// The largest squared length of the per-particle vectors in `field` (D floats each).
+    /// The largest squared length of the per-particle vectors in `field` (D floats each), over
+    /// this rank's particles (not its ghosts).
     double largest_norm_squared(const std::vector<float>& field) const {
         return reduce(
             n_, threads_, 0.0,
             [&](std::size_t i) {
+                if (!owned(i)) return 0.0;
                 double sum = 0;
                 for (int a = 0; a < D; ++a) sum += double(field[i * D + a]) * field[i * D + a];
                 return sum;

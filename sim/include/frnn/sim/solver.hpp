@@ -75,8 +75,7 @@ public:
     /// Runs this simulation as one of several ranks (frnn/sim/ranks.hpp), before its first
     /// step: each rank keeps the particles of its part of the domain, and every step gives the
     /// one-process result bit for bit. Throws frnn::ranks_agree_error for what does not run
-    /// across ranks yet (docs/SCALING.md: the viscoelastic solver, domains periodic on some
-    /// axes only, domains that need the hashed grid).
+    /// across ranks (docs/SCALING.md: domains that need the hashed grid).
     virtual void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance = {});
     /// Across ranks, a collective call that brings every rank's particles to rank 0, in the
     /// one-process order, for view() and save() there (the other ranks' view is then empty);
