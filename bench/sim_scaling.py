@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Strong scaling of one WCSPH simulation across MPI ranks (docs/SCALING.md).
+"""Strong scaling of one simulation across MPI ranks (docs/SCALING.md).
 
 Runs the same scene, in alternating rounds, as: one process of 1 thread (T1), one process of
 2 threads, and `mpirun -np 2` of 1 thread each (T2), and optionally 4 ranks of 1 thread
@@ -20,7 +20,7 @@ import tempfile
 
 
 def run(args, out, ranks, threads):
-    cmd = [args.frnn, "sim", "--scene", args.scene, "--solver", "sph", "--dim", str(args.dim),
+    cmd = [args.frnn, "sim", "--scene", args.scene, "--solver", args.solver, "--dim", str(args.dim),
            "--particles", str(args.particles), "--steps", str(args.steps), "--every", str(args.steps),
            "--threads", str(threads), "--quiet", "--out", out]
     if ranks > 1:
@@ -39,6 +39,7 @@ def main():
     p.add_argument("--frnn", default="frnn", help="the frnn tool (default: frnn on PATH)")
     p.add_argument("--mpirun", default="mpirun")
     p.add_argument("--scene", default="dam-break")
+    p.add_argument("--solver", default="sph", choices=["sph", "viscoelastic"])
     p.add_argument("--dim", type=int, default=3)
     p.add_argument("--particles", type=int, default=1000000)
     p.add_argument("--steps", type=int, default=20)
@@ -69,7 +70,7 @@ def main():
         shutil.rmtree(work, ignore_errors=True)
     med = {name: statistics.median(t) for name, t in times.items()}
     one = last[configs[0][0]]
-    print(f"{args.scene} {args.dim}D WCSPH: {one['particles']:,} particles, {one['wall_particles']:,} wall particles, "
+    print(f"{args.scene} {args.dim}D {args.solver}: {one['particles']:,} particles, {one['wall_particles']:,} wall particles, "
           f"{args.steps} steps, medians of {args.rounds} alternating rounds (ms per step without output)\n")
     print("| run | ms/step | range | exchange share | ghosts per particle | bytes sent per particle-step | largest imbalance |")
     print("|---|---:|---:|---:|---:|---:|---:|")

@@ -215,8 +215,8 @@ private:
         // Each particle writes only its own new velocity and re-predicted position, so the
         // re-prediction x = x_prev + dt v shares the loop.
         parallel_for(n_, threads_, prof, stage::viscosity, [&](std::size_t i) {
-            float dv[D];
-            pairs_.viscosity(view, row(i), c, dv);
+            float dv[D] = {};
+            if (this->owned(i)) pairs_.viscosity(view, row(i), c, dv);  // a ghost takes its owner's after the pass
             for (int a = 0; a < D; ++a) {
                 const std::size_t k = i * D + a;
                 v_buf_[k] = v_[k] + dv[a];
@@ -342,6 +342,7 @@ private:
         const float rho0 = float(rho0_), k = float(prm_.stiffness * dt2_scale(dt)), kn = float(prm_.near_stiffness * dt2_scale(dt));
         const pair_view view = pair_arrays();
         parallel_for(n_, threads_, prof, stage::relaxation, [&](std::size_t i) {
+            if (!this->owned(i)) return;  // a ghost takes its owner's after the pass
             float rho = 0, rho_near = 0;
             pairs_.density(view, row(i), &rho, &rho_near);
             rho_[i] = rho / rho0;             // relative density: 1 at rest
@@ -350,8 +351,8 @@ private:
         });
         if (this->dist_) serial(prof, stage::exchange, [&] { this->dist_->refresh({&rho_, &p_, &near_}); });
         parallel_for(n_, threads_, prof, stage::relaxation, [&](std::size_t i) {
-            float dx[D];
-            pairs_.displacement(view, row(i), dx);
+            float dx[D] = {};
+            if (this->owned(i)) pairs_.displacement(view, row(i), dx);  // a ghost's is not used: the next step drops it
             for (int a = 0; a < D; ++a) {
                 const std::size_t c = i * D + a;
                 buf_[c] = x_[c] + dx[a];
