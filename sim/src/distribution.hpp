@@ -69,16 +69,17 @@ public:
     /// Before the grid is built: drops last step's ghosts, moves every particle to the rank that
     /// owns its cell plane, adds this step's ghosts and sorts everything by key. fields[0] is
     /// the position. On the first call every rank holds every particle, in the order of the
-    /// one-process arrays (the seeding's, or a checkpoint's).
+    /// one-process arrays (the seeding's, or a checkpoint's). work(i), when given, weighs
+    /// particle i in a new cut (its neighbors, say): slabs of equal work, not of equal counts.
     void redistribute(const grid_geometry<float>& g, const std::vector<carried_field>& fields,
-                      std::vector<std::uint32_t>& id) {
+                      std::vector<std::uint32_t>& id, const std::function<std::uint64_t(std::size_t)>& work = {}) {
         start_step();
         span_timer timed{step_exchange_};
         fields_ = fields;
         const std::size_t n = id.size();
         const bool first = bounds_.empty();
-        if (first) start(g, n);
-        else if (balance_.check_every > 0 && ++steps_ % balance_.check_every == 0) check_balance(g, n);
+        if (first) start(g, n, work);
+        else if (balance_.check_every > 0 && ++steps_ % balance_.check_every == 0) check_balance(g, n, work);
         const int me = comm_->rank(), ranks = comm_->size();
         const std::size_t count = std::size_t(ranks);
         std::vector<rank_bytes> moving(count);
@@ -326,25 +327,28 @@ private:
     }
 
     /// The first cut, from every particle (each rank holds them all on the first call).
-    void start(const grid_geometry<float>& g, std::size_t n) {
+    void start(const grid_geometry<float>& g, std::size_t n, const std::function<std::uint64_t(std::size_t)>& work) {
         ghost_.assign(n, 0);
         key_.resize(n);
         // The arrays' order: the seeding's, or a checkpoint's (the one-process order then).
         for (std::size_t i = 0; i < n; ++i) key_[i] = {0, std::uint32_t(i)};
         axis_ = -1;
-        set_cut(g, choose_cut(g, histograms(g, n)));
+        set_cut(g, choose_cut(g, histograms(g, n, work)));
     }
 
-    /// Particles per cell plane along each axis, this rank's (ghosts left out), axis after axis.
-    std::vector<std::uint64_t> histograms(const grid_geometry<float>& g, std::size_t n) const {
+    /// The work (particles, or work(i) each when given) per cell plane along each axis, this
+    /// rank's (ghosts left out), axis after axis.
+    std::vector<std::uint64_t> histograms(const grid_geometry<float>& g, std::size_t n,
+                                          const std::function<std::uint64_t(std::size_t)>& work) const {
         std::size_t size = 0;
         for (int a = 0; a < D; ++a) size += std::size_t(g.dims[std::size_t(a)]);
         std::vector<std::uint64_t> count(size, 0);
         for (std::size_t i = 0; i < n; ++i) {
             if (!ghost_.empty() && ghost_[i]) continue;
             const cell_index c = cell(g, i);
+            const std::uint64_t w = work ? work(i) : 1;
             std::size_t at = 0;
-            for (int a = 0; a < D; ++a) ++count[at + std::size_t(c[std::size_t(a)])], at += std::size_t(g.dims[std::size_t(a)]);
+            for (int a = 0; a < D; ++a) count[at + std::size_t(c[std::size_t(a)])] += w, at += std::size_t(g.dims[std::size_t(a)]);
         }
         return count;
     }
@@ -399,11 +403,12 @@ private:
         return bounds;
     }
 
-    /// The most loaded rank against the mean; a new cut when it exceeds 1 + imbalance.
-    void check_balance(const grid_geometry<float>& g, std::size_t n) {
-        std::vector<std::uint64_t> count = histograms(g, n);
+    /// The most loaded rank (in work: particles, or work(i) each) against the mean; a new cut
+    /// when it exceeds 1 + imbalance.
+    void check_balance(const grid_geometry<float>& g, std::size_t n, const std::function<std::uint64_t(std::size_t)>& work) {
+        std::vector<std::uint64_t> count = histograms(g, n, work);
         std::uint64_t mine = 0;
-        for (std::size_t i = 0; i < n; ++i) mine += ghost_[i] ? 0 : 1;
+        for (std::size_t i = 0; i < n; ++i) mine += ghost_[i] ? 0 : (work ? work(i) : 1);
         std::uint64_t most = 0, total = 0;
         for (const rank_bytes& b : all_gather(bytes_of(mine))) {
             const std::uint64_t k = value_of<std::uint64_t>(b);

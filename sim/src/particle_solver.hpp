@@ -202,7 +202,14 @@ protected:
     void rebuild_distributed(profiler& prof, double, Arrays&... arrays) {
         serial(prof, stage::exchange, [&] {
             std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, D}...};
-            dist_->redistribute(grid_.geometry(), fields, id_);
+            // A cut gives the ranks equal work: a particle weighs its neighbors (the last
+            // step's rows; before the first, the one-process grid's counts) and one.
+            std::vector<std::uint32_t> first_counts;
+            if (!dist_->started()) first_counts = grid_.count_neighbors(index_space::original);
+            const auto work = [&](std::size_t i) -> std::uint64_t {
+                return 1 + (first_counts.empty() ? neighbors_.count(i) : first_counts[i]);
+            };
+            dist_->redistribute(grid_.geometry(), fields, id_, work);
             n_ = id_.size();
         });
         serial(prof, stage::grid, [&] {

@@ -30,8 +30,9 @@ public:
 };
 
 /// When the ranks' parts of the domain move with the fluid: every `check_every` steps, if the
-/// most loaded rank holds more than (1 + imbalance) times the mean of the particles, the cut is
-/// made anew from where the particles are. The result does not depend on it.
+/// most loaded rank has more than (1 + imbalance) times the mean work (each particle weighs one
+/// plus its neighbors), the cut is made anew from where the particles are. The result does not
+/// depend on it.
 struct balance_options {
     double imbalance = 0.1;
     std::uint32_t check_every = 20;
