@@ -268,6 +268,14 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.4, 1], "velocity": [1.5, -1, 0]}],
         "colliders": [{"name": "stone", "type": "sphere", "center": [0.5, 0.6, 0.5], "radius": 0.1}],
         "sph": {"alpha": 0.3}})");
+    // The shipped dam break's walls with the continuity equation: the density moves with its particle.
+    write_bytes(dir / "continuity-dam-break.json", R"({"name": "continuity-dam-break", "solver": "sph", "dim": 2,
+        "particles": {"2d": 1250, "3d": 4000}, "duration": 1, "gravity": [0, -9.81, 0],
+        "domain": {"min": [0, 0, 0], "max": [2, 1, 1]},
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.25, 0.5, 1]}],
+        "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
+        "sph": {"h_ratio": 1.3, "alpha": 0.02, "wall_particles": true, "density": "continuity", "density_diffusion": 0.1},
+        "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
     struct scene_case {
         const char* options;
         std::size_t frames;  // the first, then one every `--every` steps
@@ -281,6 +289,7 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         {"--scene dam-break --solver sph --dim 2 --particles 1250 --steps 400 --every 100", 5, {{2, 1}, {3, 2}}, true},
         // Periodic: particles and ghosts cross the box's faces.
         {"periodic-box.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
+        {"continuity-dam-break.json --steps 300 --every 100", 4, {{2, 1}}},
     };
     const std::vector<int> counts = rank_counts();  // the sanitizer tree: fewer
     for (const auto& c : cases) {
