@@ -87,6 +87,11 @@ def main():
                      f"{balance['largest_imbalance']:.3f}" if balance["checks"] else "no check"]
         t = times[name]
         print(f"| {name} | {med[name]:.1f} | {min(t):.1f}-{max(t):.1f} | " + " | ".join(cells) + " |")
+    for name, ranks, _ in configs:
+        if ranks > 1:
+            parts = [f"rank {q}: {r['local_ms_per_step']:.1f} local + {r['exchange_ms_per_step']:.1f} exchange "
+                     f"({r['waiting_ms_per_step']:.1f} of it waiting)" for q, r in enumerate(last[name]["ranks"]["per_rank"])]
+            print(f"\n{name}, last round, ms per step: " + "; ".join(parts))
     t1, t2 = med[configs[0][0]], med[configs[2][0]]
     print(f"\nefficiency at 2 ranks, T1 / (2 T2): {t1 / (2 * t2):.1%}")
     print(f"2 ranks against 1 process of 2 threads: {med[configs[1][0]] / t2:.2f}x the speed")

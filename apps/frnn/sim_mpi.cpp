@@ -3,7 +3,9 @@
 
 #include <mpi.h>
 
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <string>
@@ -20,12 +22,19 @@ public:
     mpi_ranks() {
         MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
         MPI_Comm_size(MPI_COMM_WORLD, &size_);
+        // Test hook of the fault tests: FRNN_TEST_KILL_RANK=k and FRNN_TEST_KILL_EXCHANGE=e kill
+        // rank k with SIGKILL as it starts its e-th exchange (a step makes three), mid-run,
+        // while the others wait for it.
+        const char* k = std::getenv("FRNN_TEST_KILL_RANK");
+        const char* e = std::getenv("FRNN_TEST_KILL_EXCHANGE");
+        if (k && e && std::atoi(k) == rank_) kill_at_ = std::strtoull(e, nullptr, 10);
     }
     int rank() const override { return rank_; }
     int size() const override { return size_; }
 
     std::vector<sim::rank_bytes> exchange(const std::vector<sim::rank_bytes>& send) override {
         if (int(send.size()) != size_) throw error("ranks: exchange needs one message per rank");
+        if (++exchanges_ == kill_at_) std::raise(SIGKILL);
         const std::size_t ranks = std::size_t(size_);
         std::vector<int> out_count(ranks), out_at(ranks), in_count(ranks), in_at(ranks);
         sim::rank_bytes out;
@@ -86,6 +95,7 @@ private:
         return parts;
     }
     int rank_ = 0, size_ = 1;
+    unsigned long long exchanges_ = 0, kill_at_ = 0;  // kill_at_ 0: never
 };
 
 }  // namespace

@@ -53,7 +53,13 @@ struct grid_options {
     std::vector<double> periodic;
     /// Optional bounds of the uniform grid (one value per axis, both or neither). Points
     /// outside are still handled exactly (they share the border cells). Default: bounding box.
+    /// With periodic axes they bound the open axes only (a periodic axis spans its box).
     std::vector<double> domain_min, domain_max;
+    /// Lay the cells out as for this many points (0: as many as are given): the sparse-box
+    /// rule above, the uniform grid's cell budget and the hashed grid's table then do not
+    /// depend on the points given, so that grids over parts of one point set (the ranks of a
+    /// domain decomposition, with `domain_min`/`domain_max`) share one layout of cells.
+    std::size_t layout_points = 0;
     /// Threads for build and bulk queries, the calling one included; 0 means
     /// frnn::default_thread_count() (FRNN_NUM_THREADS, else OMP_NUM_THREADS, else every CPU).
     int threads = 0;

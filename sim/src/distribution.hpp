@@ -11,12 +11,14 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "frnn/grid.hpp"
@@ -39,6 +41,14 @@ struct order_key {
 
 template <int D>
 class distribution {
+    using clock = std::chrono::steady_clock;
+    /// Adds the seconds from its making to its end to `into`.
+    struct span_timer {
+        double& into;
+        clock::time_point start = clock::now();
+        ~span_timer() { into += std::chrono::duration<double>(clock::now() - start).count(); }
+    };
+
 public:
     distribution(std::shared_ptr<rank_comm> comm, const balance_options& balance)
         : comm_(std::move(comm)), balance_(balance) {}
@@ -62,6 +72,8 @@ public:
     /// one-process arrays (the seeding's, or a checkpoint's).
     void redistribute(const grid_geometry<float>& g, const std::vector<carried_field>& fields,
                       std::vector<std::uint32_t>& id) {
+        start_step();
+        span_timer timed{step_exchange_};
         fields_ = fields;
         const std::size_t n = id.size();
         const bool first = bounds_.empty();
@@ -71,24 +83,28 @@ public:
         const std::size_t count = std::size_t(ranks);
         std::vector<rank_bytes> moving(count);
         std::vector<std::size_t> staying;
+        departures_.clear();
         for (std::size_t i = 0; i < n; ++i) {
             if (!first && ghost_[i]) continue;
             const int q = owner(plane(g, i));
             if (q == me) staying.push_back(i);
-            else if (!first) pack(moving[std::size_t(q)], i, id);  // on the first call q has it too
+            else if (!first) pack(moving[std::size_t(q)], i, id), departures_.emplace_back(id[i], q);  // on the first call q has it too
         }
+        // Arrivals and ghosts are appended to the arrays (after the n slots of last step), and
+        // one permutation then takes the slots kept, in key order, into this step's arrays.
         std::vector<rank_bytes> arrived = exchange(moving);
         const std::size_t stayed = staying.size();
-        select(staying, id);
         for (const rank_bytes& b : arrived) unpack(b, id, 0);
-        owned_ = id.size();
+        std::vector<std::uint32_t> owned(staying.begin(), staying.end());
+        for (std::size_t i = n; i < id.size(); ++i) owned.push_back(std::uint32_t(i));
+        owned_ = owned.size();
         // Ghosts: this rank's particles within reach of another rank's slab.
         std::vector<rank_bytes> copies(count);
         std::vector<std::vector<std::uint32_t>> sent(count);
-        for (std::size_t i = 0; i < owned_; ++i) {
+        for (std::uint32_t i : owned) {
             const std::int64_t c = plane(g, i);
             for (int q = 0; q < ranks; ++q)
-                if (q != me && near(q, c, g.reach * depth_)) pack(copies[std::size_t(q)], i, id), sent[std::size_t(q)].push_back(std::uint32_t(i));
+                if (q != me && near(q, c, g.reach * depth_)) pack(copies[std::size_t(q)], i, id), sent[std::size_t(q)].push_back(i);
         }
         std::vector<rank_bytes> received = exchange(copies);
         std::vector<std::vector<std::uint32_t>> got(count);
@@ -99,26 +115,29 @@ public:
         }
         // The one-process order of the last step (the grid's sort keeps it inside each cell).
         // The particles that stayed are in it already: the others are sorted and merged in.
-        std::vector<std::uint32_t> order(id.size());
-        std::iota(order.begin(), order.end(), 0u);
+        std::vector<std::uint32_t> order(stayed + id.size() - n);
+        std::copy(owned.begin(), owned.begin() + std::ptrdiff_t(stayed), order.begin());
+        std::iota(order.begin() + std::ptrdiff_t(stayed), order.end(), std::uint32_t(n));
         const auto before = [&](std::uint32_t a, std::uint32_t b) { return key_[a] < key_[b]; };
         const auto arrivals = order.begin() + std::ptrdiff_t(stayed);
         if (!std::is_sorted(order.begin(), arrivals, before)) std::sort(order.begin(), arrivals, before);
         std::sort(arrivals, order.end(), before);
         std::inplace_merge(order.begin(), arrivals, order.end(), before);
+        slots_before_ = id.size();
         permute(order, id);
-        tag_ = std::move(order);  // tag_[s]: the index before this sort, for the exchange lists
+        tag_ = std::move(order);  // tag_[s]: the slot before this sort, for the exchange lists
         sent_ = std::move(sent);
         got_ = std::move(got);
     }
 
-    /// After the grid sorted the arrays (reorder() applied to this class's arrays too): each
-    /// owned particle's key for the next step, and where the ghost exchanges read and write.
+    /// After the grid sorted the arrays (reorder() applied to ghost()): each particle's key for
+    /// the next step, and where the ghost exchanges read and write.
     void sorted(const grid<float, D>& grid, const std::vector<float>& x) {
         const grid_geometry<float>& g = grid.geometry();
+        const std::span<const std::uint32_t> perm = grid.sorted_to_original();
         const std::size_t n = ghost_.size();
-        std::vector<std::uint32_t> slot_of(n);
-        for (std::size_t s = 0; s < n; ++s) slot_of[tag_[s]] = std::uint32_t(s);
+        std::vector<std::uint32_t> slot_of(slots_before_);
+        for (std::size_t s = 0; s < n; ++s) slot_of[tag_[perm[s]]] = std::uint32_t(s);
         for (auto* lists : {&sent_, &got_})
             for (auto& list : *lists)
                 for (auto& i : list) i = slot_of[i];
@@ -130,33 +149,44 @@ public:
             const std::uint64_t cell = g.slot_of_cell(g.cell_of(p));
             in_cell = s > 0 && cell == previous ? in_cell + 1 : 0;
             previous = cell;
-            if (!ghost_[s]) key_[s] = {cell, in_cell};
+            key_[s] = {cell, in_cell};  // a ghost's is not used
         }
     }
 
-    /// Permutes this class's per-particle arrays as the grid permuted the caller's.
-    void reorder(const grid<float, D>& grid) {
-        grid.reorder(std::span<std::uint8_t>(ghost_));
-        grid.reorder(std::span<std::uint32_t>(tag_));
-        grid.reorder(std::span<order_key>(key_));
-    }
+    /// Permutes this class's per-particle flags as the grid permuted the caller's arrays.
+    void reorder(const grid<float, D>& grid) { grid.reorder(std::span<std::uint8_t>(ghost_)); }
 
     /// Each ghost takes its owner's values of these arrays (one value per particle).
     void refresh(std::initializer_list<std::vector<float>*> arrays) {
+        std::vector<carried_field> fields;
+        for (auto* a : arrays) fields.push_back({a, 1});
+        refresh(fields);
+    }
+    /// The same for arrays of `components` values per particle.
+    void refresh(const std::vector<carried_field>& fields) {
+        span_timer timed{step_exchange_};
         const std::size_t ranks = std::size_t(comm_->size());
+        std::size_t floats = 0;
+        for (const auto& f : fields) floats += f.components;
         std::vector<rank_bytes> out(ranks);
         for (std::size_t q = 0; q < ranks; ++q)
             for (std::uint32_t s : sent_[q])
-                for (const auto* a : arrays) append(out[q], (*a)[s]);
+                for (const auto& f : fields)
+                    for (std::size_t c = 0; c < f.components; ++c) append(out[q], (*f.data)[s * f.components + c]);
         const std::vector<rank_bytes> in = exchange(out);
         for (std::size_t q = 0; q < ranks; ++q) {
             const char* at = in[q].data();
-            if (in[q].size() != got_[q].size() * arrays.size() * sizeof(float))
+            if (in[q].size() != got_[q].size() * floats * sizeof(float))
                 throw error("ranks: ghost refresh from rank " + std::to_string(q) + " has the wrong size");
             for (std::uint32_t s : got_[q])
-                for (auto* a : arrays) std::memcpy(&(*a)[s], at, sizeof(float)), at += sizeof(float);
+                for (const auto& f : fields)
+                    for (std::size_t c = 0; c < f.components; ++c)
+                        std::memcpy(&(*f.data)[s * f.components + c], at, sizeof(float)), at += sizeof(float);
         }
     }
+
+    /// The ids of the particles the last redistribute() sent to other ranks, and where to.
+    const std::vector<std::pair<std::uint32_t, int>>& departures() const { return departures_; }
 
     /// The rank whose slab holds point x (D floats).
     int owner_of(const grid_geometry<float>& g, const float* x) const {
@@ -168,8 +198,10 @@ public:
     /// Every rank's particles, ghosts and bytes sent, and the balance checks so far.
     ranks_report report() {
         ranks_report r;
-        for (const rank_bytes& b : comm_->all_gather(bytes_of(ranks_report::rank{owned_, ghosts(), bytes_sent_})))
-            r.per_rank.push_back(value_of<ranks_report::rank>(b));
+        const double steps = double(std::max<std::uint64_t>(timed_steps_, 1));
+        ranks_report::rank mine{owned_, ghosts(), bytes_sent_, 1e3 * exchange_seconds_ / steps, 1e3 * wait_seconds_ / steps,
+                                1e3 * (step_seconds_ - exchange_seconds_) / steps};
+        for (const rank_bytes& b : comm_->all_gather(bytes_of(mine))) r.per_rank.push_back(value_of<ranks_report::rank>(b));
         r.checks = checks_;
         r.rebalances = rebalances_;
         r.largest_imbalance = largest_imbalance_;
@@ -179,20 +211,22 @@ public:
 
     /// The largest of every rank's v.
     double max(double v) {
+        span_timer timed{step_exchange_};
         double m = v;
-        for (const rank_bytes& b : comm_->all_gather(bytes_of(v))) m = std::max(m, value_of<double>(b));
+        for (const rank_bytes& b : all_gather(bytes_of(v))) m = std::max(m, value_of<double>(b));
         return m;
     }
 
     /// The message of the particle first in the one-process order among those that ranks
     /// found (found: this rank's first, or none), on every rank; empty when none found one.
     std::string first_found(const order_key* found, const std::string& message) {
+        span_timer timed{step_exchange_};
         rank_bytes mine;
         if (found) append(mine, *found), mine.insert(mine.end(), message.begin(), message.end());
         std::string best;
         order_key best_key;
         bool any = false;
-        for (const rank_bytes& b : comm_->all_gather(mine)) {
+        for (const rank_bytes& b : all_gather(mine)) {
             if (b.empty()) continue;
             const order_key k = value_of<order_key>(b);
             if (!any || k < best_key) best_key = k, best = std::string(b.begin() + sizeof(order_key), b.end()), any = true;
@@ -204,6 +238,7 @@ public:
     /// (one float array each, `components` values per particle) and the ids. Empty on others.
     void gather(const std::vector<carried_field>& fields, const std::vector<std::uint32_t>& id,
                 std::vector<std::vector<float>>& out, std::vector<std::uint32_t>& out_id) {
+        span_timer timed{step_output_};
         rank_bytes mine;
         for (std::size_t s = 0; s < ghost_.size(); ++s) {
             if (ghost_[s]) continue;
@@ -235,6 +270,38 @@ public:
             for (std::size_t f = 0; f < fields.size(); ++f)
                 for (std::size_t c = 0; c < fields[f].components; ++c)
                     out[f][r * fields[f].components + c] = value_of<float>(all, at), at += sizeof(float);
+        }
+    }
+
+    /// The owned particles of every rank moved to the rank whose share of the ids holds theirs
+    /// (rank q of P: [total q / P, total (q + 1) / P)), in any order: the fields given (one
+    /// float array each, `components` values per particle) and the ids.
+    void share_by_id(const std::vector<carried_field>& fields, const std::vector<std::uint32_t>& id, std::size_t total,
+                     std::vector<std::vector<float>>& out, std::vector<std::uint32_t>& out_id) {
+        span_timer timed{step_output_};
+        const std::size_t ranks = std::size_t(comm_->size());
+        std::vector<rank_bytes> send(ranks);
+        for (std::size_t s = 0; s < ghost_.size(); ++s) {
+            if (ghost_[s]) continue;
+            std::size_t q = std::min(ranks - 1, std::size_t(std::uint64_t(id[s]) * ranks / std::max<std::size_t>(total, 1)));
+            while (q > 0 && total * q / ranks > id[s]) --q;
+            while (q + 1 < ranks && total * (q + 1) / ranks <= id[s]) ++q;
+            append(send[q], id[s]);
+            for (const auto& f : fields)
+                for (std::size_t c = 0; c < f.components; ++c) append(send[q], (*f.data)[s * f.components + c]);
+        }
+        std::size_t floats = 0;
+        for (const auto& f : fields) floats += f.components;
+        const std::size_t record = sizeof(std::uint32_t) + floats * sizeof(float);
+        out.assign(fields.size(), {});
+        out_id.clear();
+        for (const rank_bytes& b : comm_->exchange(send)) {
+            if (b.size() % record) throw error("ranks: a frame message of " + std::to_string(b.size()) + " bytes");
+            for (std::size_t at = 0; at < b.size();) {
+                out_id.push_back(value_of<std::uint32_t>(b, at)), at += sizeof(std::uint32_t);
+                for (std::size_t f = 0; f < fields.size(); ++f)
+                    for (std::size_t c = 0; c < fields[f].components; ++c) out[f].push_back(value_of<float>(b, at)), at += sizeof(float);
+            }
         }
     }
 
@@ -338,7 +405,7 @@ private:
         std::uint64_t mine = 0;
         for (std::size_t i = 0; i < n; ++i) mine += ghost_[i] ? 0 : 1;
         std::uint64_t most = 0, total = 0;
-        for (const rank_bytes& b : comm_->all_gather(bytes_of(mine))) {
+        for (const rank_bytes& b : all_gather(bytes_of(mine))) {
             const std::uint64_t k = value_of<std::uint64_t>(b);
             most = std::max(most, k), total += k;
         }
@@ -350,7 +417,7 @@ private:
         rank_bytes local(count.size() * sizeof(std::uint64_t));
         std::memcpy(local.data(), count.data(), local.size());
         std::fill(count.begin(), count.end(), 0);
-        for (const rank_bytes& b : comm_->all_gather(local))
+        for (const rank_bytes& b : all_gather(local))
             for (std::size_t c = 0; c < count.size(); ++c) count[c] += value_of<std::uint64_t>(b, c * sizeof(std::uint64_t));
         cut_choice choice = choose_cut(g, count);
         if (choice.axis == axis_ && choice.bounds == bounds_) return;
@@ -361,7 +428,26 @@ private:
 
     std::vector<rank_bytes> exchange(const std::vector<rank_bytes>& out) {
         for (const rank_bytes& b : out) bytes_sent_ += b.size();
+        span_timer timed{step_wait_};
         return comm_->exchange(out);
+    }
+    std::vector<rank_bytes> all_gather(const rank_bytes& mine) {
+        span_timer timed{step_wait_};
+        return comm_->all_gather(mine);
+    }
+
+    /// A step starts with redistribute(): the last one's times are added up (its time without
+    /// gather()'s output, and its exchanges), and a new one is timed.
+    void start_step() {
+        const clock::time_point now = clock::now();
+        if (step_start_ != clock::time_point{}) {
+            step_seconds_ += std::chrono::duration<double>(now - step_start_).count() - step_output_;
+            exchange_seconds_ += step_exchange_;
+            wait_seconds_ += step_wait_;
+            ++timed_steps_;
+        }
+        step_start_ = now;
+        step_output_ = step_exchange_ = step_wait_ = 0;
     }
 
     cell_index cell(const grid_geometry<float>& g, std::size_t i) const {
@@ -407,31 +493,32 @@ private:
                 for (std::size_t c = 0; c < f.components; ++c) f.data->push_back(value_of<float>(b, at)), at += sizeof(float);
         }
     }
-    /// Keeps the particles at `keep` (in that order).
-    void select(const std::vector<std::size_t>& keep, std::vector<std::uint32_t>& id) {
-        auto take = [&](auto& v, std::size_t components) {
-            std::remove_reference_t<decltype(v)> out(keep.size() * components);
-            for (std::size_t k = 0; k < keep.size(); ++k)
-                for (std::size_t c = 0; c < components; ++c) out[k * components + c] = v[keep[k] * components + c];
-            v.swap(out);
-        };
-        for (const auto& f : fields_) take(*f.data, f.components);
-        take(id, 1);
-        take(key_, 1);
-        ghost_.assign(keep.size(), 0);
-    }
-    /// new[k] = old[order[k]] for every carried array.
+    /// new[k] = old[order[k]] for every carried array and the flags. Each array is written into
+    /// a spare of last step's size and swapped with it: no fresh memory (and page faults) per step.
     void permute(const std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& id) {
-        std::vector<std::size_t> keep(order.begin(), order.end());
-        const std::vector<std::uint8_t> ghost = ghost_;
-        select(keep, id);
-        for (std::size_t k = 0; k < keep.size(); ++k) ghost_[k] = ghost[keep[k]];
+        auto take = [&](auto& v, auto& spare, std::size_t components) {
+            spare.resize(order.size() * components);
+            for (std::size_t k = 0; k < order.size(); ++k)
+                for (std::size_t c = 0; c < components; ++c) spare[k * components + c] = v[std::size_t(order[k]) * components + c];
+            v.swap(spare);
+        };
+        spare_fields_.resize(fields_.size());
+        for (std::size_t f = 0; f < fields_.size(); ++f) take(*fields_[f].data, spare_fields_[f], fields_[f].components);
+        take(id, spare_id_, 1);
+        take(key_, spare_key_, 1);
+        take(ghost_, spare_ghost_, 1);
     }
 
     std::shared_ptr<rank_comm> comm_;
     balance_options balance_;
     std::function<void()> before_rebalance_;
     std::uint64_t steps_ = 0, bytes_sent_ = 0;
+    // Per step: its start, and its seconds in gather()'s output, in this class's exchanges and
+    // waiting inside them (part of the exchanges); the totals over the steps that ended.
+    clock::time_point step_start_{};
+    double step_output_ = 0, step_exchange_ = 0, step_wait_ = 0;
+    double step_seconds_ = 0, exchange_seconds_ = 0, wait_seconds_ = 0;
+    std::uint64_t timed_steps_ = 0;
     std::size_t checks_ = 0, rebalances_ = 0;
     double largest_imbalance_ = 0, imbalance_sum_ = 0;
     std::vector<carried_field> fields_;
@@ -444,6 +531,12 @@ private:
     std::vector<std::uint32_t> tag_;
     std::size_t owned_ = 0;
     std::vector<std::vector<std::uint32_t>> sent_, got_;  ///< ghost exchange lists, per rank
+    std::size_t slots_before_ = 0;  ///< the arrays' length before the last permute()
+    std::vector<std::pair<std::uint32_t, int>> departures_;  ///< (id, rank) of the last redistribute()
+    std::vector<std::vector<float>> spare_fields_;  ///< permute()'s spare arrays
+    std::vector<std::uint32_t> spare_id_;
+    std::vector<order_key> spare_key_;
+    std::vector<std::uint8_t> spare_ghost_;
 };
 
 }  // namespace frnn::sim::detail

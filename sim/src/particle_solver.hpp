@@ -69,6 +69,7 @@ public:
         p_.assign(n_, 0);
         id_.resize(n_);
         for (std::size_t i = 0; i < n_; ++i) id_[i] = std::uint32_t(i);
+        total_ = n_;
         periodic_ = s.is_periodic();
         if (periodic_) {
             for (int a = 0; a < D; ++a) box_[a] = float(s.periodic[a]);  // 0: an open axis
@@ -86,9 +87,6 @@ public:
 
     void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance) override {
         if (built_) throw error("set_ranks: call it before the first step");
-        for (int a = 0; a < D; ++a)
-            if (periodic_ && !(box_[a] > 0))  // its open axes would span each rank's own particles
-                throw ranks_agree_error("a domain periodic on some axes only runs in one process, not across ranks yet");
         build_or_rebuild(radius());  // the one-process grid's cells, which the ranks share out
         if (grid_.kind() != grid_kind::uniform)
             throw ranks_agree_error("a simulation across ranks needs the scene's uniform grid (this domain needs the "
@@ -104,7 +102,35 @@ public:
         dist_->gather(fields, id_, gathered_, gathered_id_);
         report_ = dist_->report();
     }
+    particle_view id_share() override {
+        if (!dist_) return view();
+        const std::size_t rank = std::size_t(dist_->comm().rank()), ranks = std::size_t(dist_->comm().size());
+        const std::size_t first = total_ * rank / ranks, end = total_ * (rank + 1) / ranks;
+        std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&rho_, 1}, {&p_, 1}};
+        if (dist_->started()) {
+            dist_->share_by_id(fields, id_, total_, share_, share_id_);
+        } else {  // every rank holds every particle
+            share_.assign(fields.size(), {});
+            share_id_.clear();
+            for (std::size_t i = 0; i < n_; ++i) {
+                if (id_[i] < first || id_[i] >= end) continue;
+                share_id_.push_back(id_[i]);
+                for (std::size_t f = 0; f < fields.size(); ++f)
+                    for (std::size_t c = 0; c < fields[f].components; ++c)
+                        share_[f].push_back((*fields[f].data)[i * fields[f].components + c]);
+            }
+        }
+        return {D, share_id_.size(), share_[0].data(), share_[1].data(), share_[2].data(), share_[3].data(), share_id_.data()};
+    }
     ranks_report report_ranks() const override { return report_; }
+    double largest_coordinate(int axis) override {
+        if (!dist_ || !dist_->started()) return solver::largest_coordinate(axis);
+        const double mine = reduce(
+            n_, threads_, -std::numeric_limits<double>::infinity(),
+            [&](std::size_t i) { return owned(i) ? double(x_[i * D + std::size_t(axis)]) : -std::numeric_limits<double>::infinity(); },
+            [](double a, double b) { return std::max(a, b); });
+        return dist_->max(mine);  // a max is exact in any order
+    }
     double time() const override { return time_; }
     std::uint64_t steps() const override { return steps_; }
     double last_dt() const override { return last_dt_; }
@@ -148,10 +174,10 @@ protected:
     bool gathered() const { return dist_ && !gathered_.empty(); }
 
     /// Whether particle i is this rank's (always in one process; not a ghost across ranks).
-    bool owned(std::size_t i) const { return !dist_ || !dist_->ghost(i); }
+    bool owned(std::size_t i) const { return !dist_ || !dist_->started() || !dist_->ghost(i); }
 
     /// Builds (first call) or rebuilds the grid over x and permutes x and every extra array
-    /// (components per particle given with it) into cell order.
+    /// (D values per particle, as x) into cell order. Across ranks a rank may hold no particle.
     template <class... Arrays>
     void rebuild_grid(profiler& prof, double radius, Arrays&... arrays) {
         if (dist_) return rebuild_distributed(prof, radius, arrays...);
@@ -165,7 +191,7 @@ protected:
             grid_.reorder(std::span<float>(x_), D);
             grid_.reorder(std::span<float>(v_), D);
             grid_.reorder(std::span<std::uint32_t>(id_), 1);
-            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), D), ...);
         });
         neighbors_.build(grid_, prof);
     }
@@ -175,7 +201,7 @@ protected:
     template <class... Arrays>
     void rebuild_distributed(profiler& prof, double, Arrays&... arrays) {
         serial(prof, stage::exchange, [&] {
-            std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, arrays.size() / n_}...};
+            std::vector<carried_field> fields = {{&x_, D}, {&v_, D}, {&arrays, D}...};
             dist_->redistribute(grid_.geometry(), fields, id_);
             n_ = id_.size();
         });
@@ -187,7 +213,7 @@ protected:
             grid_.reorder(std::span<float>(x_), D);
             grid_.reorder(std::span<float>(v_), D);
             grid_.reorder(std::span<std::uint32_t>(id_), 1);
-            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), arrays.size() / n_), ...);
+            (grid_.reorder(std::span<typename Arrays::value_type>(arrays), D), ...);
             dist_->reorder(grid_);
             dist_->sorted(grid_, x_);
             rho_.resize(n_);
@@ -196,9 +222,9 @@ protected:
         neighbors_.build(grid_, prof);
     }
 
-    /// A rank's grid must have the one-process grid's cells (their order is the row order). A
-    /// grid sizes a sparse periodic box's cells by its point count: a rank with too few
-    /// particles for the box would get others, so it stops the job instead.
+    /// A rank's grid must have the one-process grid's cells (their order is the row order).
+    /// They are laid out for all the particles over the scene's domain (build_or_rebuild), so
+    /// any part of the particles gets them; checked, as a wrong order would go unnoticed.
     void check_cells() const {
         const grid_geometry<float>& g = grid_.geometry();
         for (int a = 0; a < D; ++a)
@@ -206,7 +232,7 @@ protected:
                 g.kind != cells_.kind || g.reach != cells_.reach)
                 throw error("this rank's " + std::to_string(n_) + " particles and ghosts do not give the one-process grid's "
                             "cells (" + std::to_string(g.dims[a]) + " instead of " + std::to_string(cells_.dims[a]) +
-                            " along axis " + std::to_string(a) + "): run on fewer ranks");
+                            " along axis " + std::to_string(a) + ")");
     }
 
     void build_or_rebuild(double radius) {
@@ -214,18 +240,18 @@ protected:
             grid_options o;
             o.kind = grid_kind::uniform;
             o.threads = threads_;
-            if (periodic_) {
+            // A fixed domain (the scene's, padded; a periodic axis spans its box) laid out for
+            // all the particles keeps the cells, and so the neighbor order, a function of the
+            // positions alone: the same on every rank, whatever part of them it holds.
+            if (periodic_)
                 for (int a = 0; a < D; ++a) o.periodic.push_back(box_[a]);
-            } else {
-                // A fixed domain (the scene's, padded) keeps the cell layout, and so the
-                // neighbor order, a function of the positions alone.
-                o.domain_min.resize(D);
-                o.domain_max.resize(D);
-                for (int a = 0; a < D; ++a) {
-                    o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
-                    o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
-                }
+            o.domain_min.resize(D);
+            o.domain_max.resize(D);
+            for (int a = 0; a < D; ++a) {
+                o.domain_min[std::size_t(a)] = scene_.domain_min[a] - radius;
+                o.domain_max[std::size_t(a)] = scene_.domain_max[a] + radius;
             }
+            o.layout_points = total_;
             try {
                 grid_.build(std::span<const float>(x_), float(radius), o);
             } catch (const error&) {
@@ -263,11 +289,13 @@ protected:
         });
     }
 
-    /// The largest squared length of the per-particle vectors in `field` (D floats each).
+    /// The largest squared length of the per-particle vectors in `field` (D floats each), over
+    /// this rank's particles (not its ghosts).
     double largest_norm_squared(const std::vector<float>& field) const {
         return reduce(
             n_, threads_, 0.0,
             [&](std::size_t i) {
+                if (!owned(i)) return 0.0;
                 double sum = 0;
                 for (int a = 0; a < D; ++a) sum += double(field[i * D + a]) * field[i * D + a];
                 return sum;
@@ -401,6 +429,9 @@ protected:
     grid_geometry<float> cells_;             // across ranks: the one-process grid's cells
     std::vector<std::vector<float>> gathered_;  // gather(): x, v, rho, p, then extra_fields()
     std::vector<std::uint32_t> gathered_id_;
+    std::size_t total_ = 0;                   // the particles of all ranks
+    std::vector<std::vector<float>> share_;  // id_share(): x, v, rho, p
+    std::vector<std::uint32_t> share_id_;
     ranks_report report_;
 };
 

@@ -52,11 +52,10 @@ std::string timestamp() {
     return buf;
 }
 
-/// Surge front along the probe axis, in units of a, from the particles' extent.
-double front_Z(const particle_view& p, const front_probe& f, double spacing) {
-    double m = -1e300;
-    for (std::size_t i = 0; i < p.n; ++i) m = std::max(m, double(p.x[i * std::size_t(p.dim) + std::size_t(f.axis)]));
-    return (m + spacing / 2 - f.origin) / f.a;
+/// Surge front along the probe axis, in units of a, from the particles' extent (across ranks a
+/// collective call: a largest coordinate over the ranks, not a gather).
+double front_Z(solver& sol, const front_probe& f) {
+    return (sol.largest_coordinate(f.axis) + sol.spacing() / 2 - f.origin) / f.a;
 }
 
 class progress_meter {
@@ -179,8 +178,16 @@ void write_summary(const std::string& dir, solver& sol, profiler& prof, const ru
     summary["threads"] = threads;
     if (const ranks_report ranks = sol.report_ranks(); !ranks.per_rank.empty()) {
         json per_rank = json::array();
+        std::size_t total = 0;
+        for (const auto& r : ranks.per_rank) total += r.particles;
         for (const auto& r : ranks.per_rank)
-            per_rank.push_back({{"particles", r.particles}, {"ghosts", r.ghosts}, {"bytes_sent", r.bytes_sent}});
+            per_rank.push_back({{"particles", r.particles},
+                                {"load", total ? double(r.particles * ranks.per_rank.size()) / double(total) : 0.0},
+                                {"ghosts", r.ghosts},
+                                {"bytes_sent", r.bytes_sent},
+                                {"exchange_ms_per_step", r.exchange_ms},
+                                {"waiting_ms_per_step", r.waiting_ms},
+                                {"local_ms_per_step", r.local_ms}});
         summary["ranks"] = {{"count", ranks.per_rank.size()},
                             {"per_rank", per_rank},
                             {"balance",
@@ -271,29 +278,34 @@ run_result execute(run_state& st, solver& sol, const run_options& opt, const std
 
     auto write_frame = [&] {
         const stage_timer timer(prof, stage::output);
-        sol.gather();
-        const particle_view v = sol.view();
         const std::size_t k = st.frames.size();
+        const std::string vtp = "frames/" + frame_name(k, "vtp");
+        // Across ranks every rank writes its part of the frame; the pictures are drawn on
+        // rank 0 from the gathered particles.
+        const bool across = opt.ranks && opt.ranks->size() > 1;
+        if (opt.write_frames && across) write_vtp(dir + "/" + vtp, sol.id_share(), *opt.ranks);
+        const bool pictures = opt.png || opt.video;
+        if (pictures) sol.gather();
         if (!root) {
             st.frames.emplace_back(sol.time(), "");
             return;
         }
         if (opt.write_frames) {
-            write_vtp(dir + "/frames/" + frame_name(k, "vtp"), v);
-            st.frames.emplace_back(sol.time(), "frames/" + frame_name(k, "vtp"));
+            if (!across) write_vtp(dir + "/" + vtp, sol.view());
+            st.frames.emplace_back(sol.time(), vtp);
             write_pvd(dir + "/particles.pvd", st.frames);
         } else {
             st.frames.emplace_back(sol.time(), "");
         }
-        if (opt.png || opt.video)
-            io::write_file_atomically(dir + "/png/" + frame_name(k, "png"), encode_png(render(v, sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
+        if (pictures)
+            io::write_file_atomically(dir + "/png/" + frame_name(k, "png"),
+                                      encode_png(render(sol.view(), sc, 0.5 * sol.spacing(), 960, 540, color_speed, sol.time())));
     };
     auto record_front = [&] {
         if (!sc.front.enabled) return;
         const double T = sol.time() * std::sqrt(2 * g / sc.front.a);
         if (T + 1e-12 < st.next_front_T) return;
-        sol.gather();
-        st.front.emplace_back(T, front_Z(sol.view(), sc.front, sol.spacing()));
+        st.front.emplace_back(T, front_Z(sol, sc.front));
         while (st.next_front_T <= T + 1e-12) st.next_front_T += sc.front.every_T;
     };
     auto done = [&] {

@@ -299,10 +299,15 @@ private:
     /// Grid, density and pressure, then accelerations, at the current positions.
     void evaluate(profiler& prof, double t) {
         // Leapfrog's next drift reads the background accelerations of this evaluation; the
-        // continuity equation's density is state that moves with its particle.
+        // continuity equation's density is state that moves with its particle (carried in the
+        // first of D floats per particle, as the grid moves D per particle).
         if (continuity()) {
-            if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_, rho_);
-            else this->rebuild_grid(prof, 2 * h_, acc_, rho_);
+            carried_rho_.assign(n_ * D, 0);
+            for (std::size_t i = 0; i < n_; ++i) carried_rho_[i * D] = rho_[i];
+            if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_, carried_rho_);
+            else this->rebuild_grid(prof, 2 * h_, acc_, carried_rho_);
+            rho_.resize(n_);
+            for (std::size_t i = 0; i < n_; ++i) rho_[i] = carried_rho_[i * D];
         } else if (transport_velocity()) {
             this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
         } else {
@@ -333,6 +338,8 @@ private:
         const bool summation = !continuity();
         parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
             if (!summation) return state_records(i);
+            for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
+            if (!this->owned(i)) return;  // a ghost takes its owner's density (refresh_ghosts)
             float fluid = 0, wall = 0;  // sum_j w_ij, sum_w w_iw rho_w
             pairs_.density(view, row(i), &fluid, &wall);
             double rho = mass_ * norm * (1 + double(fluid) + double(wall) * inv_rho0);
@@ -357,6 +364,7 @@ private:
         // m dW/dr = m 6 norm / R g(q) (sph_pairs_impl.hpp).
         const double slope = mass_ * 6 * norm / R, nu = laminar() ? prm_.nu : 0, pb = prm_.background_pressure;
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
+            if (!this->owned(i)) return;  // a ghost's own row lacks the neighbors beyond the halo
             float pressure_sum[D], laminar_sum[D], background_sum[D];
             pairs_.forces(view, row(i), pressure_sum, laminar_sum, background_sum);
             double acc[D];
@@ -394,6 +402,7 @@ private:
         const sph_view view = pair_view(wall_particles);
         const double factor = mass_ * 6 * w_(0) / (2 * h_);  // m dW/dr = m 6 norm / R g(q)
         parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
+            if (!this->owned(i)) return;  // a ghost's row lacks the neighbors beyond the halo
             rho_[i] = float(rho_[i] + dt * factor * double(pairs_.density_rate(view, row_of(i, wall_particles))));
         });
     }
@@ -493,6 +502,7 @@ private:
     double mass_ = 0, wall_density_ = 0, c0_ = 0, settle_rate_ = 0;
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
+    std::vector<float> carried_rho_;     // continuity: rho moved with the grid, D floats each
     std::vector<float> position_, velocity_;  // per particle {x, rho}, {v, p / rho^2} (sph_pairs.hpp)
     bool have_acc_ = false;
     std::vector<float> gathered_walls_;  // across ranks: gather()'s wall states, {rho, p / rho^2} each

@@ -64,6 +64,7 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
             throw error("cell size " + fmt_double(asked) + " is smaller than radius/4 = " + fmt_double(user_r / 4));
     }
     const int threads = resolve_thread_count(o.threads);
+    const std::size_t layout_n = o.layout_points > 0 ? o.layout_points : n;  // what the cells are laid out for
 
     // Finite coordinates, and the bounding box (first bad index reported).
     std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
@@ -159,9 +160,15 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
         q.cell = cell;
         q.radius = r;
         q.hashed_key_limit = max_cell_coordinate;
-        q.uniform_cell_limit = uniform_cell_budget(n);
+        q.uniform_cell_limit = uniform_cell_budget(layout_n);
         span_open_axes<T, D>(q, l.wraps.data(), box, coords, threads, lo.data(), hi.data());
-        lay_out_periodic_cells(l, box, lo.data(), hi.data(), D, cell, n);
+        if (!o.domain_min.empty() || !o.domain_max.empty()) {  // bounds for the open axes
+            std::array<double, 3> dlo = lo, dhi = hi;
+            apply_domain(o, D, double(l.scale), double(std::numeric_limits<T>::max()), dlo.data(), dhi.data(), "");
+            for (int a = 0; a < D; ++a)
+                if (!l.wraps[a]) lo[a] = dlo[a], hi[a] = dhi[a];
+        }
+        lay_out_periodic_cells(l, box, lo.data(), hi.data(), D, cell, layout_n);
     } else {
         apply_domain(o, D, double(l.scale), double(std::numeric_limits<T>::max()), lo.data(), hi.data(), "");
         kind_question q;
@@ -172,17 +179,17 @@ grid_geometry<T> plan_geometry(std::span<const T> coords, T radius, const grid_o
         q.cell = cell;
         q.radius = r;
         q.hashed_key_limit = max_cell_coordinate;
-        q.uniform_cell_limit = uniform_cell_budget(n);
+        q.uniform_cell_limit = uniform_cell_budget(layout_n);
         const kind_answer choice = choose_kind<T, D>(q, coords, threads);
         const grid_kind kind = choice.kind;
         const double cells = choice.cells;
         for (int a = 0; a < D; ++a) lo[a] = choice.lo[a], hi[a] = choice.hi[a];
-        if (kind == grid_kind::uniform && !(cells <= uniform_cell_budget(n)))
+        if (kind == grid_kind::uniform && !(cells <= uniform_cell_budget(layout_n)))
             throw error("a uniform grid over this domain would need " + fmt_double(cells) +
-                        " cells (extent / cell size), more than its budget of " + fmt_double(uniform_cell_budget(n)) +
-                        " for " + std::to_string(n) + " points (the larger of 2^24 and 64 per point); use the hashed grid");
+                        " cells (extent / cell size), more than its budget of " + fmt_double(uniform_cell_budget(layout_n)) +
+                        " for " + std::to_string(layout_n) + " points (the larger of 2^24 and 64 per point); use the hashed grid");
         l.kind = kind;
-        lay_out_open_cells(l, lo.data(), hi.data(), D, cell, n);
+        lay_out_open_cells(l, lo.data(), hi.data(), D, cell, layout_n);
         if (l.kind == grid_kind::hashed) {
             double extent = 0;
             for (int a = 0; a < D; ++a) {

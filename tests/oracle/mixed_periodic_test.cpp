@@ -150,6 +150,52 @@ TEST(OracleMixedPeriodic, LatticeTiesAcrossTheFaces) {
     }
 }
 
+// domain_min/domain_max bound the open axes of a box with periodic axes (the periodic ones
+// span their box): a domain wider than the points, and one the points overhang (they share the
+// border cells); the cells start at the domain's lower bound on the open axis.
+TEST(OracleMixedPeriodic, DomainBoundsTheOpenAxes) {
+    const std::vector<double> box = {7.3, 0};
+    const auto pts = in_channel<double, 2>(500, box, 5.5, 470);
+    const auto queries = query_points<double, 2>(pts, 1.0, 80, box, 471);
+    for (const auto& [lo, hi] : std::vector<std::pair<double, double>>{{-3, 9}, {1.5, 3.5}}) {
+        for (double f : {1.0, 0.5}) {
+            grid_options opt;
+            opt.periodic = box;
+            opt.cell_size = f;
+            opt.domain_min = {-100, lo};  // the periodic axis ignores its bounds
+            opt.domain_max = {100, hi};
+            SCOPED_TRACE("open axis over [" + std::to_string(lo) + ", " + std::to_string(hi) + "], cell r*" + std::to_string(f));
+            check_all<double, 2>(pts, 1.0, opt, queries, depth_for_cell(f));
+            const grid<double, 2> g(pts, 1.0, opt);
+            EXPECT_EQ(g.geometry().origin[1], lo);
+            EXPECT_EQ(g.geometry().origin[0], 0.0);
+            const auto& geo = g.geometry();  // cells over [lo, hi] on the open axis
+            EXPECT_LE(geo.origin[1] + double(geo.dims[1] - 1) * geo.cell[1], hi);
+            EXPECT_GE(geo.origin[1] + double(geo.dims[1]) * geo.cell[1], hi);
+        }
+    }
+}
+
+// layout_points lays the cells out as for that many points: a part of a sparse box's points
+// gets the whole set's cells (without it, more of them: the sparse rule counts the points
+// given), and its lists are still right.
+TEST(OracleMixedPeriodic, LayoutPointsFixTheCells) {
+    const std::vector<double> box = {60, 50};
+    const auto all = in_channel<double, 2>(1000, box, 0, 472);
+    const std::vector<double> part(all.begin(), all.begin() + 2 * 100);
+    grid_options opt;
+    opt.periodic = box;
+    const grid<double, 2> whole(all, 0.5, opt);
+    const grid<double, 2> alone(part, 0.5, opt);
+    opt.layout_points = 1000;
+    const grid<double, 2> laid_out(part, 0.5, opt);
+    ASSERT_LT(whole.slot_count(), 120u * 100);  // the sparse rule took cells away
+    EXPECT_NE(alone.geometry().dims, whole.geometry().dims);
+    EXPECT_EQ(laid_out.geometry().dims, whole.geometry().dims);
+    EXPECT_EQ(laid_out.geometry().cell, whole.geometry().cell);
+    check_all<double, 2>(part, 0.5, opt, query_points<double, 2>(part, 0.5, 40, box, 473), depth::basic);
+}
+
 template <class T, int D>
 std::vector<csr<T>> outputs_at(const std::vector<T>& pts, T r, grid_options opt, const std::vector<T>& queries) {
     const grid<T, D> g(pts, r, opt);

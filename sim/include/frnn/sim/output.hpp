@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "frnn/sim/ranks.hpp"
 #include "frnn/sim/scene.hpp"
 #include "frnn/sim/solver.hpp"
 
@@ -15,6 +16,12 @@ namespace frnn::sim {
 
 /// One frame: positions, velocity, speed, density, pressure and id, in particle-id order.
 void write_vtp(const std::string& path, const particle_view& p);
+/// The same frame written by every rank, a collective call: rank r of P gives the particles
+/// with ids [N r / P, N (r + 1) / P) of the frame's N, in any order (solver::id_share), and
+/// writes them into the file at their place. Rank 0 makes the temporary file and renames it
+/// when every rank has written: the bytes of write_vtp. A failure on any rank throws
+/// ranks_agree_error on every rank and leaves no file.
+void write_vtp(const std::string& path, const particle_view& p, rank_comm& ranks);
 /// The .pvd collection listing (time, file) pairs.
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& frames);
 

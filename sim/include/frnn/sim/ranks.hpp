@@ -42,6 +42,11 @@ struct ranks_report {
     struct rank {
         std::size_t particles = 0, ghosts = 0;  ///< at the end
         std::uint64_t bytes_sent = 0;           ///< particles, ghosts and ghost refreshes, over the run
+        /// Mean milliseconds per step (over the steps that ended before the report; without
+        /// output): in the exchanges (moving particles and ghosts, sorting them in, refreshing
+        /// the ghosts, the reductions), of which waiting inside collective calls (for the data,
+        /// or for slower ranks), and the rest of the step.
+        double exchange_ms = 0, waiting_ms = 0, local_ms = 0;
     };
     std::vector<rank> per_rank;
     std::size_t checks = 0, rebalances = 0;

@@ -75,16 +75,23 @@ public:
     /// Runs this simulation as one of several ranks (frnn/sim/ranks.hpp), before its first
     /// step: each rank keeps the particles of its part of the domain, and every step gives the
     /// one-process result bit for bit. Throws frnn::ranks_agree_error for what does not run
-    /// across ranks yet (only WCSPH in an open domain without wall particles does).
+    /// across ranks (docs/SCALING.md: domains that need the hashed grid).
     virtual void set_ranks(std::shared_ptr<rank_comm> ranks, const balance_options& balance = {});
     /// Across ranks, a collective call that brings every rank's particles to rank 0, in the
     /// one-process order, for view() and save() there (the other ranks' view is then empty);
     /// nothing in one process.
     virtual void gather() {}
+    /// Across ranks, a collective call that gives rank r of P the particles whose ids are in
+    /// [N r / P, N (r + 1) / P) of all N, in any order, for a frame every rank writes its part
+    /// of (write_vtp with ranks, frnn/sim/output.hpp). In one process: view().
+    virtual particle_view id_share() { return view(); }
     /// Across ranks, at the last gather(): each rank's particles and ghosts (copies of other
     /// ranks' particles within reach of its part), bytes sent, and the load balance; empty
     /// (no ranks) in one process.
     virtual ranks_report report_ranks() const { return {}; }
+    /// The largest coordinate of any particle along `axis` (-infinity for none). Across ranks
+    /// a collective call, the same on every rank, without gathering the particles.
+    virtual double largest_coordinate(int axis);
 };
 
 /// Makes the scene's solver with its particles seeded. threads 0: all hardware threads.
