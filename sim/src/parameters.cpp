@@ -107,6 +107,10 @@ std::vector<parameter> make_table() {
              "transport velocity's background pressure (0: off; no free surface)"),
         real(sp, S, &spp::settle_time, "settle_time", "s", 0, unbounded, 0, 1, false,
              "damp the velocities for this long from the start (settling)"),
+        choice(sp, S, &spp::density, "density", {"summation", "continuity"}, false,
+               "kernel sum, or the continuity equation with density diffusion"),
+        real(sp, S, &spp::density_diffusion, "density_diffusion", "1", 0, 1, 0, 0.5, true,
+             "density diffusion delta (continuity; Molteni & Colagrossi 2009)"),
     };
 }
 

@@ -20,7 +20,19 @@
 //   particles drift with v~ = v + dt a_b, a_b_i = -p_b sum_j m (1/rho_i^2 + 1/rho_j^2) grad_i W,
 //   the force a uniform background pressure p_b would exert. It vanishes on a uniform
 //   arrangement and pushes disordered particles back towards one, which keeps the tensile
-//   instability from clumping them where the pressure is negative.
+//   instability from clumping them where the pressure is negative;
+// - optionally ("density": "continuity") the density integrated by the continuity equation
+//   d rho_i / dt = rho_i sum_j V_j v_ij . grad_i W (Antuono, Colagrossi, Marrone and Molteni,
+//   "Free-surface flows solved by means of SPH schemes with numerical diffusive terms",
+//   Comput. Phys. Commun. 181, 2010), V_j = m / rho_j, plus the density diffusion of Molteni
+//   and Colagrossi ("A simple procedure to improve the pressure evaluation in hydrodynamic
+//   context using the SPH", Comput. Phys. Commun. 180, 2009): 2 delta h c0 sum_j V_j
+//   (rho_j - rho_i) x_ji . grad_i W / (r_ij^2 + 0.01 h^2), which damps the acoustic noise that
+//   the summation's kernel sum filters and the continuity equation keeps. Wall particles
+//   enter both sums as particles at rest with their extrapolated density and volume m / rho0
+//   (their mass in the summation); the kernel integrals over colliders enter the force only.
+//   The density is integrated after the velocity kick, from the kicked velocities, and with
+//   symplectic Euler only (leapfrog's kicks would integrate rho and v both from old values).
 // The pair sums (density, momentum equation, the wall particles' extrapolation) run in float,
 // 8 neighbors at a time without a branch per pair (sph_pairs_impl.hpp), the same bits on every
 // instruction-set level and thread count; the per-particle arithmetic (equation of state, the
@@ -51,6 +63,12 @@ public:
           pairs_(sph_pairs_for<D>(level)) {
         acc_.assign(n_ * D, 0);
         background_acc_.assign(n_ * D, 0);
+        // The continuity equation starts from the rest density (the lattice's kernel sum).
+        if (continuity()) {
+            if (prm_.integrator != sph_params::integrator_t::symplectic_euler)
+                throw error("sph.density: \"continuity\" needs the \"symplectic-euler\" integrator");
+            rho_.assign(n_, float(prm_.rest_density));
+        }
         position_.assign(4 * n_, 0);
         velocity_.assign(4 * n_, 0);
         // Mass: an interior particle of the initial lattice has exactly the rest density.
@@ -93,7 +111,15 @@ public:
         } else {
             evaluate(prof, this->time_);
             const double dt = time_step();
-            kick_and_drift(prof, dt);
+            if (continuity()) {
+                // The density from the kicked velocities: symplectic in (rho, v), whose sound
+                // waves forward Euler (both from the old state) would amplify every step.
+                kick(prof, dt);
+                integrate_density(prof, dt);
+                drift(prof, dt, dt);
+            } else {
+                kick_and_drift(prof, dt);
+            }
             this->collide(prof, this->time_ + dt);
             settle(prof, dt);
             finish(prof, dt);
@@ -157,6 +183,7 @@ private:
     void parameters_changed() override { prm_ = this->scene_.sph; }
     std::vector<carried_field> extra_fields() override { return {{&acc_, D}, {&background_acc_, D}}; }
     bool laminar() const { return prm_.viscosity == sph_params::viscosity_t::laminar; }
+    bool continuity() const { return prm_.density == sph_params::density_t::continuity; }
 
     void finish(profiler& prof, double dt) {
         this->time_ += dt;
@@ -271,9 +298,21 @@ private:
 
     /// Grid, density and pressure, then accelerations, at the current positions.
     void evaluate(profiler& prof, double t) {
-        // Leapfrog's next drift reads the background accelerations of this evaluation.
-        if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
-        else this->rebuild_grid(prof, 2 * h_, acc_);
+        // Leapfrog's next drift reads the background accelerations of this evaluation; the
+        // continuity equation's density is state that moves with its particle (carried in the
+        // first of D floats per particle, as the grid moves D per particle).
+        if (continuity()) {
+            carried_rho_.assign(n_ * D, 0);
+            for (std::size_t i = 0; i < n_; ++i) carried_rho_[i * D] = rho_[i];
+            if (transport_velocity()) this->rebuild_grid(prof, 2 * h_, acc_, background_acc_, carried_rho_);
+            else this->rebuild_grid(prof, 2 * h_, acc_, carried_rho_);
+            rho_.resize(n_);
+            for (std::size_t i = 0; i < n_; ++i) rho_[i] = carried_rho_[i * D];
+        } else if (transport_velocity()) {
+            this->rebuild_grid(prof, 2 * h_, acc_, background_acc_);
+        } else {
+            this->rebuild_grid(prof, 2 * h_, acc_);
+        }
         position_.resize(4 * n_);  // across ranks, n_ changes every step
         velocity_.resize(4 * n_);
         const bool wall_particles = !walls_.empty();
@@ -295,11 +334,10 @@ private:
             },
             min_parallel_light);
         const sph_view view = pair_view(wall_particles);
-        const auto row = [&](std::size_t i) {
-            if (!wall_particles) return sph_row{i, neighbors_.begin(i), neighbors_.end(i), nullptr, nullptr};
-            return sph_row{i, neighbors_.begin(i), neighbors_.end(i), walls_.begin(i), walls_.end(i)};
-        };
+        const auto row = [&](std::size_t i) { return row_of(i, wall_particles); };
+        const bool summation = !continuity();
         parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
+            if (!summation) return state_records(i);
             for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
             if (!this->owned(i)) return;  // a ghost takes its owner's density (refresh_ghosts)
             float fluid = 0, wall = 0;  // sum_j w_ij, sum_w w_iw rho_w
@@ -311,10 +349,7 @@ private:
                 for (const auto& c : walls) c.for_each_wall(x, R, [&](double d, const vec3&) { rho += wall_density_ * psi_(d); });
             }
             rho_[i] = float(rho);
-            p_[i] = pressure(float(rho));
-            position_[4 * i + 3] = rho_[i];
-            // The pressure term of the momentum equation, once per particle, not per pair.
-            velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
+            state_records(i);
         });
         if (this->dist_) serial(prof, stage::exchange, [&] { refresh_ghosts(); });
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
@@ -349,6 +384,48 @@ private:
             if (pb > 0)
                 for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(slope * pb * double(background_sum[a]));
         });
+    }
+
+    /// rho += dt d rho / dt by the continuity equation with density diffusion, at this step's
+    /// positions and densities (evaluate()'s records and wall states) and the kicked velocities.
+    void integrate_density(profiler& prof, double dt) {
+        parallel_for(
+            n_, threads_, prof, stage::density,
+            [&](std::size_t i) {
+                for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
+            },
+            min_parallel_light);
+        // Across ranks a ghost's acceleration misses the neighbors beyond the halo: its
+        // owner's kicked velocity instead.
+        if (this->dist_) serial(prof, stage::exchange, [&] { refresh_ghost_velocities(); });
+        const bool wall_particles = !walls_.empty();
+        const sph_view view = pair_view(wall_particles);
+        const double factor = mass_ * 6 * w_(0) / (2 * h_);  // m dW/dr = m 6 norm / R g(q)
+        parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
+            if (!this->owned(i)) return;  // a ghost's row lacks the neighbors beyond the halo
+            rho_[i] = float(rho_[i] + dt * factor * double(pairs_.density_rate(view, row_of(i, wall_particles))));
+        });
+    }
+    void refresh_ghost_velocities() {
+        std::vector<float> v[D];
+        for (int a = 0; a < D; ++a) {
+            v[a].resize(n_);
+            for (std::size_t i = 0; i < n_; ++i) v[a][i] = v_[i * D + a];
+        }
+        if constexpr (D == 2) this->dist_->refresh({&v[0], &v[1]});
+        else this->dist_->refresh({&v[0], &v[1], &v[2]});
+        for (std::size_t i = 0; i < n_; ++i)
+            if (!this->owned(i))
+                for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v[a][i];
+    }
+
+    /// Particle i's pressure from its density, and its records for the pair passes.
+    void state_records(std::size_t i) {
+        p_[i] = pressure(rho_[i]);
+        position_[4 * i + 3] = rho_[i];
+        for (int a = 0; a < D; ++a) velocity_[4 * i + a] = v_[i * D + a];
+        // The pressure term of the momentum equation, once per particle, not per pair.
+        velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
     }
 
     /// Across ranks: {index, rho, p / rho^2} of the wall particles in this rank's slab.
@@ -394,6 +471,12 @@ private:
         }
     }
 
+    /// Particle i's neighbors among the fluid and (with wall particles) the walls.
+    sph_row row_of(std::size_t i, bool wall_particles) const {
+        if (!wall_particles) return sph_row{i, neighbors_.begin(i), neighbors_.end(i), nullptr, nullptr};
+        return sph_row{i, neighbors_.begin(i), neighbors_.end(i), walls_.begin(i), walls_.end(i)};
+    }
+
     /// The arrays and constants of the pair passes (sph_pairs.hpp), this evaluation's.
     sph_view pair_view(bool with_walls) const {
         sph_view s;
@@ -407,6 +490,8 @@ private:
         s.viscosity = laminar() ? 0.0f : float(-2 * std::max(prm_.alpha, 0.0) * c0_ * h_);
         s.laminar = laminar() ? float(prm_.nu) : 0.0f;
         s.background = float(prm_.background_pressure);
+        s.diffusion = continuity() ? float(2 * prm_.density_diffusion * h_ * c0_) : 0.0f;
+        s.inv_rest_density = float(1 / prm_.rest_density);
         return s;
     }
 
@@ -417,6 +502,7 @@ private:
     double mass_ = 0, wall_density_ = 0, c0_ = 0, settle_rate_ = 0;
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
+    std::vector<float> carried_rho_;     // continuity: rho moved with the grid, D floats each
     std::vector<float> position_, velocity_;  // per particle {x, rho}, {v, p / rho^2} (sph_pairs.hpp)
     bool have_acc_ = false;
     std::vector<float> gathered_walls_;  // across ranks: gather()'s wall states, {rho, p / rho^2} each

@@ -26,6 +26,8 @@ struct sph_view {
     float viscosity = 0;   // the artificial viscosity's -2 alpha c0 h (0: off)
     float laminar = 0;     // the laminar viscosity's nu (0: off)
     float background = 0;  // the transport velocity's background pressure p_b (0: off)
+    float diffusion = 0;         // the density diffusion's 2 delta h c0 (0: off)
+    float inv_rest_density = 0;  // 1 / rho0: a wall particle's volume over the mass m
 };
 
 /// A particle's neighbors among the fluid [begin, end) and among the walls [wall_begin, wall_end).
@@ -54,6 +56,9 @@ struct sph_pair_kernels {
     /// factors (sph_pairs_impl.hpp): pressure and artificial viscosity into acc, the laminar
     /// viscosity into laminar and the background pressure into background (0 when off).
     void (*forces)(const sph_view&, const sph_row&, float* acc, float* laminar, float* background);
+    /// The continuity equation's rate of density with the density diffusion, without its
+    /// constant factor m dW/dr, over the fluid and wall neighbors (sph_pairs_impl.hpp).
+    float (*density_rate)(const sph_view&, const sph_row&);
     /// The sums of wall particle w over its fluid neighbors [begin, end) (gravity: 3 values).
     wall_sums (*extrapolation)(const sph_view&, std::size_t w, const std::uint32_t* begin, const std::uint32_t* end,
                                const float* gravity);

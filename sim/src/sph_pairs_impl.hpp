@@ -94,6 +94,44 @@ void forces(const sph_view& s, const sph_row& row, float* acc_out, float* lamina
     }
 }
 
+// With the continuity equation, d rho_i / dt = m dW/dr sum_j V_j g (rho_i vr / len -
+// k (rho_j - rho_i) len / (len^2 + eps2)), k = 2 delta h c0: Antuono et al.'s (2010)
+// rho_i sum_j V_j v_ij . grad_i W plus Molteni and Colagrossi's (2009) density diffusion
+// k sum_j V_j (rho_j - rho_i) x_ji . grad_i W / (len^2 + eps2), as grad_i W = -dW/dr r / len
+// (so x_ji . grad_i W = -dW/dr len > 0: density flows from the denser particle). The volume
+// V_j over m is 1 / rho_j for the fluid and 1 / rho0 for a wall particle (mass m rho_w / rho0,
+// at rest).
+template <int D>
+float density_rate(const sph_view& s, const sph_row& row) {
+    const std::size_t i = row.i;
+    const float inv_r = 1 / s.support, far = 2 * s.support, eps2 = s.eps2, k = s.diffusion;
+    const float *x_i = s.position + 4 * i, *v_i = s.velocity + 4 * i;
+    const float rho_i = x_i[3];
+    lanes rate = lanes{};
+    for_each_record_block<D>(s.position, x_i, i, s.box, row.begin, row.end, far, [&](const record_block<D>& b) {
+        const lanes len = sqrt_lanes(b.r2), q = len * inv_r;
+        const lane_mask close = (len > 0) & (q < 1);
+        lanes v_j[4];
+        b.read(s.velocity, v_j);
+        lanes vr = lanes{};
+        for (int a = 0; a < D; ++a) vr -= (v_i[a] - v_j[a]) * b.r[a];
+        const lanes rho_j = b.extra;
+        const lanes pair = rho_i * vr / len - k * (rho_j - rho_i) * len / (b.r2 + eps2);
+        rate += select(close, spline_slope(q) / rho_j * pair);
+    });
+    if (row.wall_begin < row.wall_end)
+        for_each_record_block<D>(s.wall, x_i, *row.wall_begin, nullptr, row.wall_begin, row.wall_end, far,
+                                 [&](const record_block<D>& b) {
+                                     const lanes len = sqrt_lanes(b.r2), q = len * inv_r;
+                                     const lane_mask close = (len > 0) & (q < 1);
+                                     lanes vr = lanes{};
+                                     for (int a = 0; a < D; ++a) vr -= v_i[a] * b.r[a];
+                                     const lanes pair = rho_i * vr / len - k * (b.extra - rho_i) * len / (b.r2 + eps2);
+                                     rate += select(close, spline_slope(q) * s.inv_rest_density * pair);
+                                 });
+    return sum_lanes(rate);
+}
+
 template <int D>
 wall_sums extrapolation(const sph_view& s, std::size_t w, const std::uint32_t* begin, const std::uint32_t* end,
                         const float* gravity) {
@@ -116,7 +154,7 @@ wall_sums extrapolation(const sph_view& s, std::size_t w, const std::uint32_t* b
 
 template <int D>
 sph_pair_kernels<D> sph_pairs() {
-    return {&density<D>, &forces<D>, &extrapolation<D>};
+    return {&density<D>, &forces<D>, &density_rate<D>, &extrapolation<D>};
 }
 template sph_pair_kernels<2> sph_pairs<2>();
 template sph_pair_kernels<3> sph_pairs<3>();

@@ -276,6 +276,14 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         "colliders": [{"name": "bed", "type": "box", "center": [0.5, -0.5, 0.5], "half": [2, 0.5, 1]},
                       {"name": "stone", "type": "sphere", "center": [0.5, 0.3, 0.5], "radius": 0.1}],
         "sph": {"alpha": 0.3}})");
+    // The shipped dam break's walls with the continuity equation: the density moves with its particle.
+    write_bytes(dir / "continuity-dam-break.json", R"({"name": "continuity-dam-break", "solver": "sph", "dim": 2,
+        "particles": {"2d": 1250, "3d": 4000}, "duration": 1, "gravity": [0, -9.81, 0],
+        "domain": {"min": [0, 0, 0], "max": [2, 1, 1]},
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.25, 0.5, 1]}],
+        "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
+        "sph": {"h_ratio": 1.3, "alpha": 0.02, "wall_particles": true, "density": "continuity", "density_diffusion": 0.1},
+        "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
     struct scene_case {
         const char* options;
         std::size_t frames;  // the first, then one every `--every` steps
@@ -305,6 +313,8 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         {"channel.json --solver viscoelastic --steps 200 --every 100", 3, {{3, 1}}},
         // 2 particles: ranks without particles, and without a share of a frame's ids.
         {"--scene dam-break --solver sph --dim 2 --particles 2 --steps 40 --every 20", 3, {{3, 1}, {4, 1}}, false, true},
+        // The continuity density: rho is state that moves with its particle.
+        {"continuity-dam-break.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
     };
     // The sanitizer tree runs the rank counts 1 and 3 only: the cases at 2 and 4 alone are the
     // release tree's, and each path (springs, channels, periodic boxes, walls) runs at 3 too.

@@ -128,19 +128,27 @@ TEST(SimOutput, ResumeLosesAndDuplicatesNoFrame) {
 }
 
 // WCSPH with wall particles: the density pass reads the walls' last extrapolated state, which
-// the checkpoint must hold for the resumed run to match.
+// the checkpoint must hold for the resumed run to match; with the continuity equation the
+// density too is state.
 TEST(SimOutput, ResumedWcsphWithWallParticlesIsTheUninterruptedRun) {
-    const scratch_dir full("sim_wcsph_full"), cut("sim_wcsph_cut");
-    const std::string text = builtin_scene_text("dam-break");
-    scene_overrides ov = small(2, 800, 60, 6);  // checkpoints every 5 frames: at step 30
-    ov.solver = solver_kind::sph;
-    run(text, "dam-break", ov, quiet(full));
-    run_options o = quiet(cut);
-    o.stop_after = 41;
-    EXPECT_FALSE(run(text, "dam-break", ov, o).finished);
-    EXPECT_TRUE(resume(cut.string(), quiet(cut)).finished);
-    EXPECT_EQ(slurp(cut / "checkpoint.bin"), slurp(full / "checkpoint.bin"));
-    EXPECT_EQ(slurp(cut / "frames" / "frame_00010.vtp"), slurp(full / "frames" / "frame_00010.vtp"));
+    const std::string shipped = builtin_scene_text("dam-break");
+    std::string continuity = shipped;
+    const std::string walls = R"("wall_particles": true,)";
+    ASSERT_NE(continuity.find(walls), std::string::npos);
+    continuity.replace(continuity.find(walls), walls.size(), walls + R"( "density": "continuity",)");
+    for (const std::string& text : {shipped, continuity}) {
+        SCOPED_TRACE(text == shipped ? "summation" : "continuity");
+        const scratch_dir full("sim_wcsph_full"), cut("sim_wcsph_cut");
+        scene_overrides ov = small(2, 800, 60, 6);  // checkpoints every 5 frames: at step 30
+        ov.solver = solver_kind::sph;
+        run(text, "dam-break", ov, quiet(full));
+        run_options o = quiet(cut);
+        o.stop_after = 41;
+        EXPECT_FALSE(run(text, "dam-break", ov, o).finished);
+        EXPECT_TRUE(resume(cut.string(), quiet(cut)).finished);
+        EXPECT_EQ(slurp(cut / "checkpoint.bin"), slurp(full / "checkpoint.bin"));
+        EXPECT_EQ(slurp(cut / "frames" / "frame_00010.vtp"), slurp(full / "frames" / "frame_00010.vtp"));
+    }
 }
 
 TEST(SimOutput, ChromeTraceHasSpansPerStageAndThread) {

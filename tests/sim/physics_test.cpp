@@ -2,7 +2,11 @@
 // 2D dam break's surge front follows Martin and Moyce's measurements.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <utility>
+#include <vector>
 
 #include "frnn/error.hpp"
 #include "frnn/sim/martin_moyce.hpp"
@@ -265,4 +269,53 @@ TEST(SimPhysics, WallParticlesNeedABoxOfFluidNoPeriodicAxisAndABoundedDomain) {
       "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1]}],
       "sph": {"wall_particles": true}})",
                "lattice points");
+}
+
+namespace {
+
+/// A standing sound wave u_x = U sin(2 pi x) in the periodic unit box (2D, 32^2 particles,
+/// c0 = 1, no viscosity, the continuity equation with density diffusion delta): the largest
+/// kinetic energy over the wave's last period before t over the initial one, and its time.
+std::pair<double, double> sound_wave_energy(double delta, double t) {
+    const std::string text = R"({"name": "sound", "solver": "sph", "dim": 2, "particles": 1024, "gravity": [0, 0, 0],
+      "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 1],
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
+      "sph": {"sound_speed": 1, "eos": "ideal", "clamp_negative_pressure": false, "alpha": 0,
+              "density": "continuity", "density_diffusion": )" + std::to_string(delta) + "}}";
+    auto sol = make_solver(parse_scene(text, "sound"), 2);
+    const double U = 0.01, pi = 3.14159265358979323846;
+    auto v = sol->view();
+    std::vector<float> by_id(2 * v.n, 0);
+    for (std::size_t i = 0; i < v.n; ++i) by_id[2 * v.id[i]] = float(U * std::sin(2 * pi * v.x[2 * i]));
+    sol->set_velocities(by_id);
+    auto energy = [&] {
+        const auto w = sol->view();
+        double e = 0;
+        for (std::size_t i = 0; i < w.n; ++i) e += double(w.v[2 * i]) * w.v[2 * i] + double(w.v[2 * i + 1]) * w.v[2 * i + 1];
+        return e;
+    };
+    const double e0 = energy();
+    double largest = 0, when = 0;
+    profiler p;
+    while (sol->time() < t) {
+        sol->step(p);
+        if (sol->time() > t - 1 && energy() > largest) largest = energy(), when = sol->time();
+    }
+    return {largest / e0, when};
+}
+
+}  // namespace
+
+// "density": "continuity": without diffusion a sound wave keeps its energy; Molteni and
+// Colagrossi's diffusion approximates delta h c0 times the Laplacian of the density, which
+// damps the wave's energy as exp(-delta h c0 k^2 t).
+TEST(SimPhysics, DensityDiffusionDampsASoundWaveAtItsRate) {
+    const double t = 3, delta = 0.1, h = 1.2 / 32, k = 2 * 3.14159265358979323846;
+    const double kept = sound_wave_energy(0, t).first;
+    const auto [damped, when] = sound_wave_energy(delta, t);
+    const double expected = std::exp(-delta * h * 1.0 * k * k * when);
+    std::printf("[ sound wave ] energy kept %.4f without diffusion, %.4f with delta %.1f at t = %.3f: ratio %.4f, "
+                "exp(-delta h c0 k^2 t) = %.4f\n", kept, damped, delta, when, damped / kept, expected);
+    EXPECT_GT(kept, 0.9);
+    EXPECT_NEAR(damped / kept / expected, 1.0, 0.1);
 }

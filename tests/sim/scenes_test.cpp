@@ -68,6 +68,11 @@ TEST(SimScenes, ErrorsNameTheKeyAndTheExpectation) {
     EXPECT_NE(e.find("key 'colliders[0].half': expected positive half extents"), std::string::npos) << e;
     e = error_of(j.substr(0, j.size() - 1) + R"(, "sph": {"cfl": "fast"}})");
     EXPECT_NE(e.find("key 'sph.cfl': expected a number, got string"), std::string::npos) << e;
+    e = error_of(j.substr(0, j.size() - 1) + R"(, "sph": {"density": "kernel"}})");
+    EXPECT_NE(e.find("key 'sph.density'"), std::string::npos) << e;
+    EXPECT_NE(e.find("\"summation\", \"continuity\""), std::string::npos) << e;
+    e = error_of(j.substr(0, j.size() - 1) + R"(, "sph": {"density_diffusion": 2}})");
+    EXPECT_NE(e.find("key 'sph.density_diffusion': expected a number in [0, 1], got 2"), std::string::npos) << e;
     EXPECT_EQ(error_of(minimal), "no error");
 }
 

@@ -98,20 +98,26 @@ TEST(SimSolvers, WcsphOptionsGiveIdenticalPositionsAtOneAndTwoThreads) {
 
 // The WCSPH pair passes (sph_pairs.hpp) on the base level at one thread and on the AVX2 level
 // (where the CPU has it) at two and three: the same bits after 40 steps, in the 2D and 3D dam
-// breaks with wall particles, a droplet without walls, and periodic boxes with the transport
-// velocity and with the laminar viscosity.
+// breaks with wall particles (the 2D one also with the continuity equation and density
+// diffusion), a droplet without walls, and periodic boxes with the transport velocity, with
+// the laminar viscosity and with the continuity equation.
 TEST(SimSolvers, WcsphIdenticalOnEveryInstructionSetLevelAndThreadCount) {
     if (!frnn::simd_supported("avx2")) GTEST_SKIP() << "no AVX2 on this CPU: one level only";
     const std::string periodic = R"({"name": "box", "solver": "sph", "dim": 2, "particles": 1225, "gravity": [0, 0, 0],
       "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 1],
       "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "velocity": [0.3, 0.1, 0]}],
       "sph": {"sound_speed": 10, "eos": "ideal", "clamp_negative_pressure": false, )";
+    scene continuity = frnn::test::small_scene("dam-break", solver_kind::sph, 2, 1200);
+    continuity.name = "continuity";
+    continuity.sph.density = frnn::sim::sph_params::density_t::continuity;
     const scene scenes[] = {
         frnn::test::small_scene("dam-break", solver_kind::sph, 2, 1200),
+        continuity,
         frnn::test::small_scene("dam-break", solver_kind::sph, 3, 2000),
         frnn::test::small_scene("droplet", solver_kind::sph, 3, 1500),
         parse_scene(periodic + R"("background_pressure": 100000}})", "transport"),
         parse_scene(periodic + R"("viscosity": "laminar", "nu": 0.01}})", "laminar"),
+        parse_scene(periodic + R"("density": "continuity", "background_pressure": 100000}})", "periodic continuity"),
     };
     for (const scene& s : scenes) {
         auto base = frnn::sim::detail::make_sph(s, 1, "base"), two = frnn::sim::detail::make_sph(s, 2, "avx2"),
@@ -131,6 +137,22 @@ TEST(SimSolvers, WcsphIdenticalOnEveryInstructionSetLevelAndThreadCount) {
         EXPECT_EQ(std::memcmp(a.data(), c.data(), a.size() * sizeof(float)), 0) << s.name << " " << s.dim << "D";
         EXPECT_EQ(base->time(), two->time()) << s.name;
         EXPECT_NE(positions_by_id(*make_solver(s, 1)), a) << s.name;  // the particles did move
+    }
+}
+
+// The continuity equation integrates the density after the velocity kick: symplectic Euler
+// only, and the solver says so.
+TEST(SimSolvers, ContinuityDensityNeedsSymplecticEuler) {
+    scene s = frnn::test::small_scene("dam-break", solver_kind::sph, 2, 300);
+    s.sph.density = sph_params::density_t::continuity;
+    s.sph.integrator = sph_params::integrator_t::leapfrog;
+    try {
+        make_solver(s, 1);
+        ADD_FAILURE() << "no error";
+    } catch (const frnn::error& e) {
+        EXPECT_NE(std::string(e.what()).find("sph.density: \"continuity\" needs the \"symplectic-euler\" integrator"),
+                  std::string::npos)
+            << e.what();
     }
 }
 

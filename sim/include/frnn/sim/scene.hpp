@@ -78,6 +78,11 @@ struct sph_params {
     /// (critical for the fluid's slowest sound wave, H the initial fluid height), so a fluid
     /// released at rest settles into equilibrium instead of ringing.
     double settle_time = 0;
+    /// The density: the kernel sum over the neighbors (summation), or integrated in time by
+    /// the continuity equation with the density diffusion of Molteni and Colagrossi (2009),
+    /// strength density_diffusion (delta; 0.1 is the literature's value, 0: none).
+    enum class density_t { summation, continuity } density = density_t::summation;
+    double density_diffusion = 0.1;
 };
 
 /// Records the surge front: Z = (max x + spacing/2 - origin) / a along `axis`, against
