@@ -23,7 +23,7 @@ public:
         MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
         MPI_Comm_size(MPI_COMM_WORLD, &size_);
         // Test hook of the fault tests: FRNN_TEST_KILL_RANK=k and FRNN_TEST_KILL_EXCHANGE=e kill
-        // rank k with SIGKILL as it starts its e-th exchange (a step makes three), mid-run,
+        // rank k with SIGKILL as it starts its e-th exchange (a WCSPH step makes three), mid-run,
         // while the others wait for it.
         const char* k = std::getenv("FRNN_TEST_KILL_RANK");
         const char* e = std::getenv("FRNN_TEST_KILL_EXCHANGE");
