@@ -27,9 +27,12 @@ namespace frnn::sim::detail {
 template <int D>
 class wall_particles {
 public:
-    /// Fills the colliders that do not move with particles `spacing` apart (per axis, the
-    /// first fluid box's lattice, continued) down to `support` behind their surfaces, for a
-    /// fluid of `fluid` particles (which bounds the lattice searched, see below).
+    /// Fills the colliders that do not move with particles about `spacing` apart down to
+    /// `support` behind their surfaces, for a fluid of `fluid` particles (which bounds the
+    /// lattices searched, see below). An axis-aligned box gets a lattice of its own whose
+    /// spacing divides its sides, so that each face lies half a spacing in front of its first
+    /// layer (Adami et al.'s wall surface) at any resolution; another collider continues the
+    /// first fluid box's lattice. A point in the solid of two colliders belongs to the first.
     void seed(const scene& s, const std::vector<collider>& colliders, double spacing, double support, int threads,
               std::size_t fluid) {
         x_.clear();
@@ -40,39 +43,41 @@ public:
         std::vector<posed_collider> still;
         for (std::size_t k = 0; k < colliders.size(); ++k)
             if (at_rest(colliders[k])) holds_[k] = 1, still.emplace_back(colliders[k], 0.0);
-        const auto& b = s.fluid[0];
-        double step[3] = {1, 1, 1}, first[3] = {0, 0, 0}, lo_index[3] = {0, 0, 0}, hi_index[3] = {0, 0, 0};
-        for (int a = 0; a < D; ++a) {
-            // As the seeding does: a box of width L holds round(L / spacing) particles per axis.
-            step[a] = (b.max[a] - b.min[a]) / std::max(1.0, std::round((b.max[a] - b.min[a]) / spacing));
-            first[a] = b.min[a] + 0.5 * step[a];
-            lo_index[a] = std::floor((s.domain_min[a] - support - first[a]) / step[a]);
-            hi_index[a] = std::ceil((s.domain_max[a] + support - first[a]) / step[a]);
-        }
-        // The lattice over the domain is searched for points in the walls: bounded, so that a
+        // The lattices over the domain are searched for points in the walls: bounded, so that a
         // domain far larger than its fluid is an error, not an hour of seeding.
-        // Counted in double: a vast domain's indices need not fit an integer.
-        double points = 1;
-        for (int a = 0; a < D; ++a) points *= hi_index[a] - lo_index[a] + 1;
         const double most = 64.0 * double(fluid) + double(1 << 20);
-        if (points > most)
-            throw error("sph.wall_particles: the domain and the kernel's support around it hold " +
-                        std::to_string(points) + " lattice points at spacing " + std::to_string(spacing) +
-                        ", more than " + std::to_string(std::llround(most)) +
-                        " (64 per fluid particle, plus 2^20): shrink the domain or turn wall_particles off");
-        std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-        for (int a = 0; a < D; ++a) lo[a] = std::int64_t(lo_index[a]), hi[a] = std::int64_t(hi_index[a]);
-        for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
-            for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-                for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
-                    const std::int64_t idx[3] = {i, j, k};
-                    vec3 x{0, 0, 0}, normal;
-                    for (int a = 0; a < D; ++a) x[a] = first[a] + double(idx[a]) * step[a];
-                    double phi = INFINITY;  // distance into the fluid's space
-                    for (const auto& c : still) phi = std::min(phi, c.phi(x, normal));
-                    if (phi > 0 || phi <= -support) continue;
-                    for (int a = 0; a < D; ++a) x_.push_back(float(x[a]));
-                }
+        double searched = 0;
+        for (std::size_t c = 0; c < still.size(); ++c) {
+            const lattice l = lattice_of(s, still[c].desc(), spacing, support);
+            // Counted in double: a vast domain's indices need not fit an integer.
+            double points = 1;
+            for (int a = 0; a < D; ++a) points *= l.hi_index[a] - l.lo_index[a] + 1;
+            searched += points;
+            if (searched > most)
+                throw error("sph.wall_particles: the domain and the kernel's support around it hold " +
+                            std::to_string(searched) + " lattice points at spacing " + std::to_string(spacing) +
+                            ", more than " + std::to_string(std::llround(most)) +
+                            " (64 per fluid particle, plus 2^20): shrink the domain or turn wall_particles off");
+            std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+            for (int a = 0; a < D; ++a) lo[a] = std::int64_t(l.lo_index[a]), hi[a] = std::int64_t(l.hi_index[a]);
+            for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+                for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+                    for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+                        const std::int64_t idx[3] = {i, j, k};
+                        vec3 x{0, 0, 0}, normal;
+                        for (int a = 0; a < D; ++a) x[a] = l.first[a] + double(idx[a]) * l.step[a];
+                        const double own = still[c].phi(x, normal);  // distance into the fluid's space
+                        if (own > 0 || own <= -support) continue;
+                        bool keep = true;
+                        for (std::size_t o = 0; o < still.size() && keep; ++o) {
+                            if (o == c) continue;
+                            const double other = still[o].phi(x, normal);
+                            keep = other > -support && (o > c || other > 0);
+                        }
+                        if (keep)
+                            for (int a = 0; a < D; ++a) x_.push_back(float(x[a]));
+                    }
+        }
         p_over_rho2_.assign(size(), 0);
         records_.assign(4 * size(), 0);
         for (std::size_t k = 0; k < size(); ++k) {
@@ -155,6 +160,28 @@ private:
         wall_fluid_indices_.resize(walls.size());
         for (std::size_t f = 0; f + 1 < off.size(); ++f)
             for (std::uint64_t e = off[f]; e < off[f + 1]; ++e) wall_fluid_indices_[next_[row_of_[walls[e]]]++] = std::uint32_t(f);
+    }
+
+    struct lattice {
+        double step[3] = {1, 1, 1}, first[3] = {0, 0, 0}, lo_index[3] = {0, 0, 0}, hi_index[3] = {0, 0, 0};
+    };
+
+    /// Collider c's lattice (see seed) and the index range that covers the domain and the
+    /// kernel's support around it.
+    static lattice lattice_of(const scene& s, const collider& c, double spacing, double support) {
+        lattice l;
+        const bool aligned_box = c.kind == shape::box && c.angle == 0;
+        const auto& b = s.fluid[0];
+        for (int a = 0; a < D; ++a) {
+            // A side of length L holds round(L / spacing) steps, as the seeding of a fluid box.
+            const double lo = aligned_box ? c.center[a] - c.half[a] : b.min[a];
+            const double length = aligned_box ? 2 * c.half[a] : b.max[a] - b.min[a];
+            l.step[a] = length / std::max(1.0, std::round(length / spacing));
+            l.first[a] = lo + 0.5 * l.step[a];
+            l.lo_index[a] = std::floor((s.domain_min[a] - support - l.first[a]) / l.step[a]);
+            l.hi_index[a] = std::ceil((s.domain_max[a] + support - l.first[a]) / l.step[a]);
+        }
+        return l;
     }
 
     static bool at_rest(const collider& c) {
