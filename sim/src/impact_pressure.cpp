@@ -104,18 +104,6 @@ double peak_mean(const pressure_signal& s, double t_lo, double t_hi, double widt
     return best;
 }
 
-double mean_abs_error(const pressure_signal& sim, const pressure_signal& measured, double t_lo, double t_hi) {
-    double sum = 0;
-    int count = 0;
-    for (const auto& [T, P] : measured) {
-        if (T < t_lo || T > t_hi) continue;
-        sum += std::abs(running_mean(sim, T) - P);
-        ++count;
-    }
-    if (count == 0) throw error("mean_abs_error: no measured point in the window");
-    return sum / count;
-}
-
 double pressure_difference(const pressure_signal& coarse, const pressure_signal& fine, double t_lo, double t_hi) {
     const int n = std::max(1, int(std::lround((t_hi - t_lo) / 0.01)));
     double sum = 0;

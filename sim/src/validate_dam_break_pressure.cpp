@@ -207,7 +207,7 @@ case_output validate_dam_break_pressure(const case_context& context) {
             const std::string at = "H/" + std::to_string(r.k) + ", " + sensor.name + ": ";
             const pressure_signal& sim = r.sensors[e];
             const impact_figures f = figures_of(sim, sensor);
-            const double mae = mean_abs_error(sim, sensor.points, measured[e].arrival, error_t_hi);
+            const double mae = pressure_difference(sim, sensor.points, measured[e].arrival, error_t_hi);
             out.figures.emplace_back(at + "arrival error", std::abs(f.arrival - measured[e].arrival) / measured[e].arrival);
             if (is_lowest(sensor))
                 out.figures.emplace_back(at + "impulse error", std::abs(f.impulse - measured[e].impulse) / measured[e].impulse);

@@ -53,12 +53,13 @@ double running_mean(const pressure_signal& s, double T, double width = pressure_
 /// The largest running mean (width `width`) over centres T = t_lo + width/2, ... in steps of
 /// width/20, up to t_hi - width/2: the height of a peak or plateau in [t_lo, t_hi].
 double peak_mean(const pressure_signal& s, double t_lo, double t_hi, double width = pressure_mean_width);
-/// The mean over the points of `measured` with T in [t_lo, t_hi] of |running_mean(sim, T) -
-/// P|, in rho g H. Throws frnn::error when there is no such point or `sim` does not cover one.
-double mean_abs_error(const pressure_signal& sim, const pressure_signal& measured, double t_lo, double t_hi);
-/// The self-convergence measure D(coarse, fine): the mean over T = t_lo, t_lo + 0.01, ..., t_hi
-/// of |running_mean(coarse, T) - running_mean(fine, T)|, in rho g H.
-double pressure_difference(const pressure_signal& coarse, const pressure_signal& fine, double t_lo, double t_hi);
+/// The mean over T = t_lo, t_lo + 0.01, ..., t_hi of |running_mean(a, T) - running_mean(b, T)|,
+/// in rho g H: a time average, so that no stretch of a signal weighs more than another (a
+/// digitised series holds its points densest on the impact's spike). Between two spacings it
+/// is the self-convergence measure D(coarse, fine); between a simulated signal and a measured
+/// series (the line through its points), the mean error after impact. Throws frnn::error
+/// when a signal does not cover [t_lo - width/2, t_hi + width/2].
+double pressure_difference(const pressure_signal& a, const pressure_signal& b, double t_lo, double t_hi);
 
 /// The pressure a 2D simulation measures at the point (x, y): the Shepard (kernel-normalised)
 /// average sum_j p_j W(r_j) / sum_j W(r_j) over the fluid particles within `support` of it,
