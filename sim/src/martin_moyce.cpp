@@ -66,14 +66,9 @@ double front_at(const std::vector<std::pair<double, double>>& front, double T) {
 double front_error(const std::vector<std::pair<double, double>>& front, const front_series& series, double t_lo,
                    double t_hi) {
     double sum = 0;
-    int count = 0;
-    for (const auto& [T, Z] : series.points) {
-        if (T < t_lo || T > t_hi) continue;
-        sum += std::abs(front_at(front, T) - Z) / Z;
-        ++count;
-    }
-    if (count == 0) throw error("no point of Martin & Moyce's series in the T range");
-    return sum / count;
+    const auto errors = signed_front_errors(front, series, t_lo, t_hi);
+    for (const auto& [T, e] : errors) sum += std::abs(e);
+    return sum / double(errors.size());
 }
 
 double front_difference(const std::vector<std::pair<double, double>>& coarse,
@@ -85,6 +80,29 @@ double front_difference(const std::vector<std::pair<double, double>>& coarse,
         sum += std::abs(front_at(coarse, T) - z) / z;
     }
     return sum / (n + 1);
+}
+
+std::vector<std::pair<double, double>> signed_front_errors(const std::vector<std::pair<double, double>>& front,
+                                                           const front_series& series, double t_lo, double t_hi) {
+    std::vector<std::pair<double, double>> errors;
+    for (const auto& [T, Z] : series.points)
+        if (T >= t_lo && T <= t_hi) errors.emplace_back(T, (front_at(front, T) - Z) / Z);
+    if (errors.empty()) throw error("no point of Martin & Moyce's series in the T range");
+    return errors;
+}
+
+std::vector<std::pair<double, double>> richardson_front(const std::vector<std::pair<double, double>>& coarse,
+                                                        const std::vector<std::pair<double, double>>& fine, double p,
+                                                        double t_lo, double t_hi) {
+    if (!(p > 0)) throw error("richardson_front: the order " + std::to_string(p) + " is not positive");
+    const int n = std::max(1, int(std::lround((t_hi - t_lo) / 0.02)));
+    const double factor = 1 / (std::exp2(p) - 1);
+    std::vector<std::pair<double, double>> front;
+    for (int k = 0; k <= n; ++k) {
+        const double T = t_lo + (t_hi - t_lo) * k / n, z = front_at(fine, T);
+        front.emplace_back(T, z + (z - front_at(coarse, T)) * factor);
+    }
+    return front;
 }
 
 }  // namespace frnn::sim

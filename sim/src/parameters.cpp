@@ -103,6 +103,7 @@ std::vector<parameter> make_table() {
         boolean(sp, S, &spp::wall_density, "wall_density", true, "colliders add to the density"),
         boolean(sp, S, &spp::wall_particles, "wall_particles", false,
                 "static colliders as wall particles with extrapolated pressure"),
+        boolean(sp, S, &spp::free_slip, "free_slip", false, "no artificial viscosity against the wall particles"),
         real(sp, S, &spp::background_pressure, "background_pressure", "Pa", 0, unbounded, 0, 1e6, false,
              "transport velocity's background pressure (0: off; no free surface)"),
         real(sp, S, &spp::settle_time, "settle_time", "s", 0, unbounded, 0, 1, false,

@@ -488,6 +488,7 @@ private:
         // Monaghan's Pi_ij = -alpha c0 h v_ij . x_ij / ((r^2 + 0.01 h^2) rho_bar_ij), for
         // approaching pairs, is c v_ij . x_ij / ((r^2 + 0.01 h^2)(rho_i + rho_j)).
         s.viscosity = laminar() ? 0.0f : float(-2 * std::max(prm_.alpha, 0.0) * c0_ * h_);
+        s.wall_viscosity = prm_.free_slip ? 0.0f : s.viscosity;
         s.laminar = laminar() ? float(prm_.nu) : 0.0f;
         s.background = float(prm_.background_pressure);
         s.diffusion = continuity() ? float(2 * prm_.density_diffusion * h_ * c0_) : 0.0f;

@@ -24,6 +24,7 @@ struct sph_view {
     float support = 0;     // R = 2h
     float eps2 = 0;        // 0.01 h^2
     float viscosity = 0;   // the artificial viscosity's -2 alpha c0 h (0: off)
+    float wall_viscosity = 0;  // the same against the wall particles (0: free slip)
     float laminar = 0;     // the laminar viscosity's nu (0: off)
     float background = 0;  // the transport velocity's background pressure p_b (0: off)
     float diffusion = 0;         // the density diffusion's 2 delta h c0 (0: off)

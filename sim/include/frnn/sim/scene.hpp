@@ -70,6 +70,9 @@ struct sph_params {
     /// Static colliders as layers of wall particles whose pressure is extrapolated from the
     /// fluid (Adami, Hu and Adams 2012), instead of the kernel integrals (wall_density).
     bool wall_particles = false;
+    /// With wall_particles: no artificial viscosity between the fluid and the wall particles,
+    /// so the walls hold the fluid without friction (free slip; default: no slip).
+    bool free_slip = false;
     /// > 0: particles move with the transport velocity of Adami, Hu and Adams (2013), pushed
     /// by this background pressure [Pa] towards a uniform spacing (0: off). For flows with no
     /// free surface (the background pressure pulls a free surface apart).
