@@ -187,8 +187,8 @@ case_output validate_dam_break_pressure(const case_context& context) {
           "average of the fluid particles' pressure within the kernel's support (2h) of its point on the wall, "
           "sampled every step, over rho g H, against T = t sqrt(g/H). Arrival: P first reaches 0.25; peak: the "
           "largest mean over 0.05 in T within 1 after the arrival; impulse: the integral of P over 0.5 after the "
-          "arrival; mean error: |P_sim - P| over the measured points from the measured arrival to T = 5.5, P_sim "
-          "averaged over 0.05 in T. Errors of arrival, peak and impulse are relative (frnn/sim/impact_pressure.hpp).\n\n";
+          "arrival; mean error: the mean of |P_sim - P| over T = arrival, arrival + 0.01, ..., 5.5 from the "
+          "measured arrival, both averaged over 0.05 in T (P the line through the measured points). Errors of arrival, peak and impulse are relative (frnn/sim/impact_pressure.hpp).\n\n";
     std::string why;
     const bool plotted = io::draw_with_gnuplot(pressure_plot(runs), 1100, 800, context.dir + "/pressure.png", why);
     md += plotted ? "![wall pressure](dam-break-pressure/pressure.png)\n\n" : "(no plot: " + why + ")\n\n";
