@@ -178,8 +178,12 @@ private:
             const double length = aligned_box ? 2 * c.half[a] : b.max[a] - b.min[a];
             l.step[a] = length / std::max(1.0, std::round(length / spacing));
             l.first[a] = lo + 0.5 * l.step[a];
-            l.lo_index[a] = std::floor((s.domain_min[a] - support - l.first[a]) / l.step[a]);
-            l.hi_index[a] = std::ceil((s.domain_max[a] + support - l.first[a]) / l.step[a]);
+            // A solid box's particles lie within it: its lattice (as fine as a thin plate is
+            // thin) is searched over the box only, not over the whole domain.
+            double from = s.domain_min[a] - support, to = s.domain_max[a] + support;
+            if (aligned_box && !c.inside) from = std::max(from, lo), to = std::min(to, lo + length);
+            l.lo_index[a] = std::floor((from - l.first[a]) / l.step[a]);
+            l.hi_index[a] = std::ceil((to - l.first[a]) / l.step[a]);
         }
         return l;
     }

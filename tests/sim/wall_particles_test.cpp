@@ -58,4 +58,21 @@ TEST(SimWallParticles, EachBoxFaceLiesHalfASpacingInFrontOfItsFirstLayer) {
     }
 }
 
+// A solid plate far thinner than the spacing gets a lattice of its own across its thickness
+// (one layer at its middle) and is searched over its own box, so a large domain around it is
+// seeded, not refused for the lattice points of the whole domain at the plate's step.
+TEST(SimWallParticles, AThinPlateGetsALayerInALargeDomain) {
+    const auto s = frnn::sim::parse_scene(R"({"name": "plate", "solver": "sph", "dim": 2, "particles": 200,
+      "domain": {"min": [0, 0, 0], "max": [100, 1, 1]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.5, 0.5, 1]}],
+      "colliders": [{"type": "box", "center": [1.2, 0.3, 0.5], "half": [0.0001, 0.3, 0.5]}],
+      "sph": {"wall_particles": true}})",
+                                          "plate");
+    const double spacing = 0.05;
+    wall_particles<2> walls;
+    walls.seed(s, s.colliders, spacing, 2.6 * spacing, 1, 200);
+    ASSERT_EQ(walls.size(), 12u);  // 0.6 / 0.05 rows, one column
+    for (std::size_t w = 0; w < walls.size(); ++w) EXPECT_NEAR(walls.positions()[2 * w], 1.2, 1e-6);
+}
+
 }  // namespace
