@@ -104,14 +104,24 @@ double peak_mean(const pressure_signal& s, double t_lo, double t_hi, double widt
     return best;
 }
 
-double pressure_difference(const pressure_signal& coarse, const pressure_signal& fine, double t_lo, double t_hi) {
+namespace {
+// The mean of f(T) over T = t_lo, t_lo + 0.01, ..., t_hi (the grid's step rounded to divide
+// the window).
+template <class F>
+double time_mean(double t_lo, double t_hi, F f) {
     const int n = std::max(1, int(std::lround((t_hi - t_lo) / 0.01)));
     double sum = 0;
-    for (int k = 0; k <= n; ++k) {
-        const double T = t_lo + (t_hi - t_lo) * k / n;
-        sum += std::abs(running_mean(coarse, T) - running_mean(fine, T));
-    }
+    for (int k = 0; k <= n; ++k) sum += f(t_lo + (t_hi - t_lo) * k / n);
     return sum / (n + 1);
+}
+}  // namespace
+
+double pressure_difference(const pressure_signal& coarse, const pressure_signal& fine, double t_lo, double t_hi) {
+    return time_mean(t_lo, t_hi, [&](double T) { return std::abs(running_mean(coarse, T) - running_mean(fine, T)); });
+}
+
+double pressure_drop(const pressure_signal& lower, const pressure_signal& upper, double t_lo, double t_hi) {
+    return time_mean(t_lo, t_hi, [&](double T) { return running_mean(lower, T) - running_mean(upper, T); });
 }
 
 double shepard_pressure(const particle_view& v, double x, double y, double support) {

@@ -5,7 +5,8 @@
 // T = t sqrt(g/H) = 6. Particle spacing H/50, H/100, H/200; quick: H/20. Figures per spacing:
 // each sensor's arrival error and mean error after impact, the upper sensors' peak error, the
 // lowest sensor's impulse error; in the full run the self-convergence D of each spacing against
-// the next and the observed order.
+// the next and the observed order; the mean pressure drop between Lobovsky et al.'s sensors,
+// measured and simulated, beside the static head (reported).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,6 +32,8 @@ constexpr double error_t_hi = 5.5;       // the mean error's window ends before 
 constexpr double peak_window = 1.0;      // the peak or plateau: within this after the arrival
 constexpr double impulse_window = 0.5;   // the first impact at the lowest sensor: this long
 constexpr double convergence_t_lo = 2.0; // D's window: from before the first arrival
+constexpr double drop_t_lo = 3.5;        // the pressure drops' window: after the first impact's
+                                         // spike at every sensor (the last arrives at T = 2.9)
 
 struct pressure_run {
     int k = 0;
@@ -218,6 +221,33 @@ case_output validate_dam_break_pressure(const case_context& context) {
                   kind + number("%.3f", is_lowest(sensor) ? f.impulse : f.peak) + " | " + number("%.3f", mae) + " |\n";
         }
     }
+    md += "\n";
+
+    // How the pressure falls with height along the wall after the first impact: water at rest
+    // between two sensors gives their height difference over H, water falling freely 0.
+    md += "Pressure drop between Lobovsky et al.'s sensors: the mean of P(lower) - P(upper) (each averaged over "
+          "0.05 in T) over T = " + number("%.1f", drop_t_lo) + ", ..., " + number("%.1f", error_t_hi) +
+          ", after the first impact, in rho g H; water at rest between the sensors gives the static head (their "
+          "height difference over H), water falling freely 0:\n\n| sensors | static head | experiment |";
+    for (const auto& r : runs) md += " H/" + std::to_string(r.k) + " |";
+    md += "\n| --- | ---: | ---: |";
+    for (std::size_t r = 0; r < runs.size(); ++r) md += " ---: |";
+    md += "\n";
+    for (std::size_t lower = 1; lower < experiments.size(); ++lower)
+        for (std::size_t upper = lower + 1; upper < experiments.size(); ++upper) {
+            const std::string pair = experiments[lower].name + " to " + experiments[upper].name;
+            const double measured_drop =
+                pressure_drop(experiments[lower].points, experiments[upper].points, drop_t_lo, error_t_hi);
+            out.figures.emplace_back("experiment: pressure drop " + pair, measured_drop);
+            md += "| " + pair + " | " + number("%.3f", experiments[upper].height - experiments[lower].height) + " | " +
+                  number("%.3f", measured_drop) + " |";
+            for (const auto& r : runs) {
+                const double drop = pressure_drop(r.sensors[lower], r.sensors[upper], drop_t_lo, error_t_hi);
+                out.figures.emplace_back("H/" + std::to_string(r.k) + ": pressure drop " + pair, drop);
+                md += " " + number("%.3f", drop).append(" |");
+            }
+            md += "\n";
+        }
     md += "\n";
 
     if (runs.size() > 1) {

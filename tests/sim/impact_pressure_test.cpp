@@ -130,6 +130,22 @@ TEST(ImpactPressure, MeanErrorAndDifferenceAreInRhoGH) {
     EXPECT_THROW(pressure_difference(sim, measured, 5.5, 6.1), frnn::error);
 }
 
+TEST(ImpactPressure, PressureDropIsSignedWhereTheDifferenceIsNot) {
+    pressure_signal upper, lower, wavy;
+    for (int k = 0; k <= 600; ++k) {
+        const double T = k * 0.01, P = 0.5 + 0.1 * T;
+        upper.emplace_back(T, P);
+        lower.emplace_back(T, P + 0.25);
+        wavy.emplace_back(T, P + 0.2 * std::sin(2 * 3.14159265358979 * T));  // whole periods over [2, 5]
+    }
+    EXPECT_NEAR(pressure_drop(lower, upper, 2, 5), 0.25, 1e-9);
+    EXPECT_NEAR(pressure_drop(upper, lower, 2, 5), -0.25, 1e-9);
+    // Above and below by turns: the drop averages out, the difference does not.
+    EXPECT_NEAR(pressure_drop(wavy, upper, 2, 5), 0, 0.002);
+    EXPECT_GT(pressure_difference(wavy, upper, 2, 5), 0.12);
+    EXPECT_THROW(pressure_drop(lower, upper, 5.5, 6.1), frnn::error);
+}
+
 TEST(ImpactPressure, ShepardSensorAveragesTheFluidWithinTheSupport) {
     // A lattice 0.01 apart on x in [0, 1), y in [0, 0.5), pressure 100 + 2000 x + 500 y.
     std::vector<float> x, v, rho, p;

@@ -60,6 +60,11 @@ double peak_mean(const pressure_signal& s, double t_lo, double t_hi, double widt
 /// series (the line through its points), the mean error after impact. Throws frnn::error
 /// when a signal does not cover [t_lo - width/2, t_hi + width/2].
 double pressure_difference(const pressure_signal& a, const pressure_signal& b, double t_lo, double t_hi);
+/// The mean over the same grid of running_mean(lower, T) - running_mean(upper, T): how much
+/// the pressure at a lower sensor exceeds that at an upper one, in rho g H. Water between them
+/// gives (z_upper - z_lower) / H times (1 + its mean upward acceleration over g): their height
+/// difference when it is at rest, 0 only when it falls freely. Throws as pressure_difference.
+double pressure_drop(const pressure_signal& lower, const pressure_signal& upper, double t_lo, double t_hi);
 
 /// The pressure a 2D simulation measures at the point (x, y): the Shepard (kernel-normalised)
 /// average sum_j p_j W(r_j) / sum_j W(r_j) over the fluid particles within `support` of it,
