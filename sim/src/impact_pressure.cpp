@@ -3,6 +3,7 @@
 #include "frnn/sim/impact_pressure.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <sstream>
@@ -124,17 +125,26 @@ double pressure_drop(const pressure_signal& lower, const pressure_signal& upper,
     return time_mean(t_lo, t_hi, [&](double T) { return running_mean(lower, T) - running_mean(upper, T); });
 }
 
-double shepard_pressure(const particle_view& v, double x, double y, double support) {
-    if (v.dim != 2) throw error("shepard_pressure: the view is not 2D");
-    const cubic_spline<2> w(support);
-    double weighted = 0, weights = 0;
-    for (std::size_t i = 0; i < v.n; ++i) {
-        const double dx = double(v.x[2 * i]) - x, dy = double(v.x[2 * i + 1]) - y;
-        if (std::abs(dx) >= support || std::abs(dy) >= support) continue;
-        const double wi = w(std::sqrt(dx * dx + dy * dy));
-        weighted += wi * double(v.p[i]), weights += wi;
-    }
-    return weights > 0 ? weighted / weights : 0;
+double shepard_pressure(const particle_view& v, const std::array<double, 3>& point, double support) {
+    if (v.dim != 2 && v.dim != 3) throw error("shepard_pressure: the view is neither 2D nor 3D");
+    const int d = v.dim;
+    const auto weighted_sum = [&](auto w) {
+        double weighted = 0, weights = 0;
+        for (std::size_t i = 0; i < v.n; ++i) {
+            double r2 = 0;
+            bool far = false;
+            for (int a = 0; a < d; ++a) {
+                const double delta = double(v.x[d * i + a]) - point[a];
+                far = far || std::abs(delta) >= support;
+                r2 += delta * delta;
+            }
+            if (far) continue;
+            const double wi = w(std::sqrt(r2));
+            weighted += wi * double(v.p[i]), weights += wi;
+        }
+        return weights > 0 ? weighted / weights : 0;
+    };
+    return d == 2 ? weighted_sum(cubic_spline<2>(support)) : weighted_sum(cubic_spline<3>(support));
 }
 
 }  // namespace frnn::sim

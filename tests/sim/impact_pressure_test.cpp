@@ -162,14 +162,41 @@ TEST(ImpactPressure, ShepardSensorAveragesTheFluidWithinTheSupport) {
     view.dim = 2, view.n = id.size(), view.x = x.data(), view.v = v.data(), view.rho = rho.data(), view.p = p.data(),
     view.id = id.data();
     // Inside, a symmetric neighborhood: the linear field's value at the point.
-    EXPECT_NEAR(shepard_pressure(view, 0.5, 0.25, 0.026), 100 + 2000 * 0.5 + 500 * 0.25, 0.05);
+    EXPECT_NEAR(shepard_pressure(view, {0.5, 0.25, 0}, 0.026), 100 + 2000 * 0.5 + 500 * 0.25, 0.05);
     // On the wall x = 1: the fluid's side only, whose centre lies inside the fluid, so less
     // than the field continued to the wall, more than a spacing's worth inside.
-    const double at_wall = shepard_pressure(view, 1.0, 0.25, 0.026);
+    const double at_wall = shepard_pressure(view, {1.0, 0.25, 0}, 0.026);
     EXPECT_LT(at_wall, 100 + 2000 * 1.0 + 500 * 0.25);
     EXPECT_GT(at_wall, 100 + 2000 * (1.0 - 0.026) + 500 * 0.25);
     // No fluid within the support: 0.
-    EXPECT_EQ(shepard_pressure(view, 1.03, 0.25, 0.026), 0.0);
-    view.dim = 3;
-    EXPECT_THROW(shepard_pressure(view, 0.5, 0.25, 0.026), frnn::error);
+    EXPECT_EQ(shepard_pressure(view, {1.03, 0.25, 0}, 0.026), 0.0);
+    view.dim = 1;
+    EXPECT_THROW(shepard_pressure(view, {0.5, 0.25, 0}, 0.026), frnn::error);
+}
+
+TEST(ImpactPressure, ShepardSensorAveragesInThreeDimensions) {
+    // A lattice 0.01 apart on [0, 0.3) x [0, 0.2) x [0, 0.1), pressure 100 + 2000 x + 500 y + 300 z.
+    std::vector<float> x, v, rho, p;
+    std::vector<std::uint32_t> id;
+    for (int i = 0; i < 30; ++i)
+        for (int j = 0; j < 20; ++j)
+            for (int k = 0; k < 10; ++k) {
+                const double px = 0.005 + 0.01 * i, py = 0.005 + 0.01 * j, pz = 0.005 + 0.01 * k;
+                x.push_back(float(px)), x.push_back(float(py)), x.push_back(float(pz));
+                for (int a = 0; a < 3; ++a) v.push_back(0);
+                rho.push_back(1000), p.push_back(float(100 + 2000 * px + 500 * py + 300 * pz));
+                id.push_back(std::uint32_t(id.size()));
+            }
+    particle_view view;
+    view.dim = 3, view.n = id.size(), view.x = x.data(), view.v = v.data(), view.rho = rho.data(), view.p = p.data(),
+    view.id = id.data();
+    const auto field = [](double px, double py, double pz) { return 100 + 2000 * px + 500 * py + 300 * pz; };
+    EXPECT_NEAR(shepard_pressure(view, {0.15, 0.1, 0.05}, 0.026), field(0.15, 0.1, 0.05), 0.05);
+    // The third coordinate counts: a point off the lattice's middle in z reads its own z.
+    EXPECT_NEAR(shepard_pressure(view, {0.15, 0.1, 0.035}, 0.026), field(0.15, 0.1, 0.035), 0.05);
+    // On the wall x = 0.3: the fluid's side only.
+    const double at_wall = shepard_pressure(view, {0.3, 0.1, 0.05}, 0.026);
+    EXPECT_LT(at_wall, field(0.3, 0.1, 0.05));
+    EXPECT_GT(at_wall, field(0.3 - 0.026, 0.1, 0.05));
+    EXPECT_EQ(shepard_pressure(view, {0.15, 0.1, 0.13}, 0.026), 0.0);
 }

@@ -7,6 +7,7 @@
 // the piecewise-linear function through them. Complexity: O(points) per call (peak_mean:
 // O(points) per 1/20 of the width over the window). Thread safety: pure functions.
 #pragma once
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,10 +67,11 @@ double pressure_difference(const pressure_signal& a, const pressure_signal& b, d
 /// difference when it is at rest, 0 only when it falls freely. Throws as pressure_difference.
 double pressure_drop(const pressure_signal& lower, const pressure_signal& upper, double t_lo, double t_hi);
 
-/// The pressure a 2D simulation measures at the point (x, y): the Shepard (kernel-normalised)
-/// average sum_j p_j W(r_j) / sum_j W(r_j) over the fluid particles within `support` of it,
-/// W the cubic spline of that support (frnn/sim/kernels.hpp); 0 when none is. Wall
-/// particles do not count. Throws frnn::error when the view is not 2D.
-double shepard_pressure(const particle_view& v, double x, double y, double support);
+/// The pressure a simulation measures at a point (its first dim coordinates count): the
+/// Shepard (kernel-normalised) average sum_j p_j W(r_j) / sum_j W(r_j) over the fluid particles
+/// within `support` of it, W the cubic spline of that support and dimension
+/// (frnn/sim/kernels.hpp); 0 when none is. Wall particles do not count. Throws frnn::error when
+/// the view is neither 2D nor 3D.
+double shepard_pressure(const particle_view& v, const std::array<double, 3>& point, double support);
 
 }  // namespace frnn::sim
