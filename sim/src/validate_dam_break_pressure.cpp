@@ -9,6 +9,7 @@
 // the next and the observed order; the mean pressure drop between Lobovsky et al.'s sensors,
 // measured and simulated, beside the static head (reported).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -79,10 +80,10 @@ pressure_run measure(int dim, int k, const case_context& context) {
     const double scale = 1 / (sol->rest_density() * g * H), to_T = std::sqrt(g / H);
     auto sample = [&] {
         const particle_view v = sol->view();
-        for (std::size_t e = 0; e < experiments.size(); ++e)
-            r.sensors[e].emplace_back(sol->time() * to_T,
-                                      scale * shepard_pressure(v, {tank_length * H, experiments[e].height * H, width_3d * H / 2},
-                                                               sol->radius()));
+        for (std::size_t e = 0; e < experiments.size(); ++e) {
+            const std::array<double, 3> sensor = {tank_length * H, experiments[e].height * H, width_3d * H / 2};
+            r.sensors[e].emplace_back(sol->time() * to_T, scale * shepard_pressure(v, sensor, sol->radius()));
+        }
     };
     sample();
     while (sol->time() * to_T < t_end) {
@@ -102,7 +103,8 @@ pressure_run measure(int dim, int k, const case_context& context) {
         }
         csv += "\n";
     }
-    io::write_file_atomically(context.dir + "/pressure-" + (dim == 3 ? "3D-" : "") + "H" + std::to_string(k) + ".csv", csv);
+    const std::string name = std::string("/pressure-") + (dim == 3 ? "3D-" : "") + "H" + std::to_string(k) + ".csv";
+    io::write_file_atomically(context.dir + name, csv);
     r.particles = sol->view().n;
     r.steps = sol->steps();
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -111,7 +113,9 @@ pressure_run measure(int dim, int k, const case_context& context) {
 
 bool is_lowest(const pressure_series& s) { return s.name == "lobovsky-3mm"; }
 // The 3D tank is Lobovsky et al.'s; Buchner's was another.
-bool measured_in(const pressure_series& s, const pressure_run& r) { return r.dim == 2 || s.name.rfind("lobovsky", 0) == 0; }
+bool measured_in(const pressure_series& s, const pressure_run& r) {
+    return r.dim == 2 || s.name.rfind("lobovsky", 0) == 0;
+}
 
 // The figures of a signal: arrival, peak (upper sensors) or impulse (lowest). A run whose
 // impact comes too late for a window is measured over what it covers; one with no impact
@@ -166,7 +170,8 @@ std::string pressure_plot(const std::vector<pressure_run>& runs) {
         for (std::size_t r = 0; r < runs.size(); ++r)
             if (measured_in(experiments[e], runs[r]))
                 add_block(binned(runs[r].sensors[e]), std::string("with lines lw 1.5 lc rgb '") + colours[r % 4] + "'",
-                          std::string(runs[r].dim == 3 ? "frnn 3D" : "frnn") + ", spacing H/" + std::to_string(runs[r].k));
+                          std::string(runs[r].dim == 3 ? "frnn 3D" : "frnn") + ", spacing H/" +
+                              std::to_string(runs[r].k));
         add_block(experiments[e].points, "with linespoints pt 7 ps 0.6 lw 1 lc rgb '#000000'", "experiment");
         s += plot + "\n";
     }
@@ -185,7 +190,8 @@ case_output validate_dam_break_pressure(const case_context& context) {
     const std::vector<int> spacings = context.quick ? std::vector<int>{20} : std::vector<int>{50, 100, 200};
     std::vector<pressure_run> runs;  // 2D at each spacing, then (full run) 3D
     for (int k : spacings) {
-        if (context.progress) std::fprintf(stderr, "dam-break-pressure: 2D, spacing H/%d, %d particles\n", k, 2 * k * k);
+        if (context.progress)
+            std::fprintf(stderr, "dam-break-pressure: 2D, spacing H/%d, %d particles\n", k, 2 * k * k);
         runs.push_back(measure(2, k, context));
     }
     const std::size_t runs_2d = runs.size();
@@ -205,8 +211,8 @@ case_output validate_dam_break_pressure(const case_context& context) {
     md += "## Dam break (WCSPH): pressure on the far wall\n\n";
     md += "A water column 2H long and H high (H = 0.3 m) at one end of a tank 5.366H long collapses and hits the "
           "far wall (2D; in the full run also 3D in Lobovsky et al.'s tank, 0.5H wide, against their sensors on the "
-          "far wall's middle line; WCSPH with the shipped dam break's `sph` section). The pressure at a sensor is the Shepard "
-          "average of the fluid particles' pressure within the kernel's support (2h) of its point on the wall, "
+          "far wall's middle line; WCSPH with the shipped dam break's `sph` section). The pressure at a sensor is "
+          "the Shepard average of the fluid particles' pressure within the kernel's support (2h) of its point on the wall, "
           "sampled every step, over rho g H, against T = t sqrt(g/H). Arrival: P first reaches 0.25; peak: the "
           "largest mean over 0.05 in T within 1 after the arrival; impulse: the integral of P over 0.5 after the "
           "arrival; mean error: the mean of |P_sim - P| over T = arrival, arrival + 0.01, ..., 5.5 from the "
