@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -137,9 +138,31 @@ TEST(SimValidation, QuickDamBreakPressurePassesAndWritesItsReport) {
     const frnn::test::scratch_dir dir("validate_pressure");
     const validation_report report = validate({"dam-break-pressure"}, quick_into(dir));
     // Per sensor an arrival and a mean error, and a peak (upper sensors) or an impulse (the
-    // lowest), each with a tolerance.
-    ASSERT_EQ(report.figures.size(), 3 * impact_pressure_experiments().size());
-    expect_every_figure_passes(report);
+    // lowest), each with a tolerance; then, reported, the pressure drop between each pair of
+    // Lobovsky et al.'s three sensors, measured and simulated.
+    const auto& experiments = impact_pressure_experiments();
+    ASSERT_EQ(report.figures.size(), 3 * experiments.size() + 6);
+    validation_report held;
+    std::map<std::string, double> drops;
+    for (const auto& f : report.figures) {
+        if (f.name.find("pressure drop") == std::string::npos) {
+            held.figures.push_back(f);
+            continue;
+        }
+        EXPECT_FALSE(f.tolerance.has_value()) << f.name;
+        drops[f.name] = f.value;
+    }
+    ASSERT_EQ(held.figures.size(), 3 * experiments.size());
+    expect_every_figure_passes(held);
+    EXPECT_TRUE(report.passed);
+    ASSERT_EQ(drops.size(), 6u);
+    // The measured drop is the series' own; the simulated water's pressure falls with height.
+    ASSERT_EQ(experiments[1].name, "lobovsky-3mm");
+    ASSERT_EQ(experiments[3].name, "lobovsky-80mm");
+    EXPECT_DOUBLE_EQ(drops.at("experiment: pressure drop lobovsky-3mm to lobovsky-80mm"),
+                     pressure_drop(experiments[1].points, experiments[3].points, 3.5, 5.5));
+    for (const auto& [name, value] : drops)
+        if (name.rfind("H/20", 0) == 0) EXPECT_GT(value, 0) << name;
     const std::string md = read_text(dir / "report.md");
     EXPECT_NE(md.find("| H/20 | 800 |"), std::string::npos);
     EXPECT_NE(md.find("](dam-break-pressure/pressure.png)"), std::string::npos);
