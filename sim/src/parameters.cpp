@@ -112,6 +112,9 @@ std::vector<parameter> make_table() {
                "kernel sum, or the continuity equation with density diffusion"),
         real(sp, S, &spp::density_diffusion, "density_diffusion", "1", 0, 1, 0, 0.5, true,
              "density diffusion delta (continuity; Molteni & Colagrossi 2009)"),
+        real(sp, S, &spp::bulk_viscosity, "bulk_viscosity", "1", 0, 2, 0, 1, true,
+             "bulk viscosity zeta / (h c0): damps compression only (0: off)"),
+        boolean(sp, S, &spp::wall_friction, "wall_friction", true, "walls' shear stress by the log law (nu)"),
     };
 }
 

@@ -33,6 +33,19 @@
 //   (their mass in the summation); the kernel integrals over colliders enter the force only.
 //   The density is integrated after the velocity kick, from the kicked velocities, and with
 //   symplectic Euler only (leapfrog's kicks would integrate rho and v both from old values).
+// - optionally ("bulk_viscosity": alpha_b) a bulk viscosity zeta = alpha_b h c0: each particle's
+//   pressure gains q_i = zeta d rho_i / dt = -zeta rho_i div v_i, with the continuity
+//   equation's rate rho_i sum_j V_j v_ij . grad_i W (without diffusion). It resists
+//   compression and expansion in proportion to their rate, so it damps sound, and it is 0 in a
+//   uniform or divergence-free flow, so it leaves a thin fast jet its momentum (the artificial
+//   viscosity, acting on every approaching pair, takes it);
+// - optionally ("wall_friction") the friction of smooth walls: a particle within the kernel's
+//   reach R of a collider's wall, at distance d, sliding along it at u, is slowed by
+//   u_tau^2 (-2 dpsi/dd) along -u, with u_tau from the law of the wall at y = max(d, spacing / 2)
+//   and nu (wall_friction.hpp), psi the kernel's integral beyond a wall at distance d: the
+//   weight integrates to 1 over the depth, so a column of fluid feels the wall's shear stress
+//   rho u_tau^2. It is meant for free-slip walls whose boundary layer is thinner than the
+//   spacing can resolve: the law stands in for the layer.
 // The pair sums (density, momentum equation, the wall particles' extrapolation) run in float,
 // 8 neighbors at a time without a branch per pair (sph_pairs_impl.hpp), the same bits on every
 // instruction-set level and thread count; the per-particle arithmetic (equation of state, the
@@ -46,6 +59,7 @@
 #include "particle_solver.hpp"
 #include "solvers.hpp"
 #include "sph_pairs.hpp"
+#include "wall_friction.hpp"
 #include "wall_particles.hpp"
 
 namespace frnn::sim {
@@ -211,6 +225,7 @@ private:
         double dt = std::min(prm_.max_dt, prm_.cfl * h_ / (c0_ + std::sqrt(vmax2)));
         if (amax2 > 0) dt = std::min(dt, 0.25 * std::sqrt(h_ / std::sqrt(amax2)));
         if (laminar() && prm_.nu > 0) dt = std::min(dt, 0.125 * h_ * h_ / prm_.nu);
+        if (prm_.bulk_viscosity > 0) dt = std::min(dt, 0.125 * h_ / (prm_.bulk_viscosity * c0_));  // 0.125 h^2 / zeta
         if (dt < 1e-3 * std::min(prm_.max_dt, prm_.cfl * h_ / c0_))
             throw ranks_agree_error("simulation unstable at step " + std::to_string(this->steps_ + 1) + ": a particle moves at " +
                         std::to_string(std::sqrt(vmax2)) + " m/s, the time step collapsed to " + std::to_string(dt) + " s");
@@ -352,6 +367,7 @@ private:
             state_records(i);
         });
         if (this->dist_) serial(prof, stage::exchange, [&] { refresh_ghosts(); });
+        if (prm_.bulk_viscosity > 0) add_bulk_viscosity(prof, view);
         const float g[3] = {float(this->scene_.gravity[0]), float(this->scene_.gravity[1]), float(this->scene_.gravity[2])};
         if (wall_particles) {
             walls_.extrapolate(
@@ -363,6 +379,7 @@ private:
         }
         // m dW/dr = m 6 norm / R g(q) (sph_pairs_impl.hpp).
         const double slope = mass_ * 6 * norm / R, nu = laminar() ? prm_.nu : 0, pb = prm_.background_pressure;
+        const std::vector<posed_collider> friction_walls = prm_.wall_friction && prm_.nu > 0 ? this->colliders_.at(t) : std::vector<posed_collider>{};
         parallel_for(n_, threads_, prof, stage::forces, [&](std::size_t i) {
             if (!this->owned(i)) return;  // a ghost's own row lacks the neighbors beyond the halo
             float pressure_sum[D], laminar_sum[D], background_sum[D];
@@ -380,10 +397,53 @@ private:
                         for (int a = 0; a < D; ++a) acc[a] += s * nrm[a];
                     });
             }
+            if (!friction_walls.empty()) add_wall_friction(i, friction_walls, acc);
             for (int a = 0; a < D; ++a) acc_[i * D + a] = float(acc[a] + g[a]);
             if (pb > 0)
                 for (int a = 0; a < D; ++a) background_acc_[i * D + a] = float(slope * pb * double(background_sum[a]));
         });
+    }
+
+    /// p_i += zeta d rho_i / dt (the bulk viscosity), and the records the forces read. Across
+    /// ranks the ghosts take their owners' sums (a ghost's row lacks the neighbors beyond the
+    /// halo).
+    void add_bulk_viscosity(profiler& prof, sph_view view) {
+        view.diffusion = 0;  // the rate of compression alone
+        const double zeta = prm_.bulk_viscosity * h_ * c0_, factor = mass_ * 6 * w_(0) / (2 * h_);
+        const bool wall_particles = !walls_.empty();
+        bulk_.assign(n_, 0.0f);
+        parallel_for(n_, threads_, prof, stage::density, [&](std::size_t i) {
+            if (!this->owned(i)) return;
+            bulk_[i] = float(zeta * factor * double(pairs_.density_rate(view, row_of(i, wall_particles))));
+        });
+        parallel_for(
+            n_, threads_, prof, stage::density,
+            [&](std::size_t i) {
+                if (!this->owned(i)) return;
+                p_[i] += bulk_[i];
+                velocity_[4 * i + 3] = float(p_[i] / (double(rho_[i]) * rho_[i]));
+            },
+            min_parallel_light);
+        if (this->dist_) serial(prof, stage::exchange, [&] { refresh_ghosts(); });
+    }
+
+    /// The walls' friction on particle i (wall_friction.hpp), added to acc.
+    void add_wall_friction(std::size_t i, const std::vector<posed_collider>& walls, double* acc) const {
+        vec3 x{0, 0, 0};
+        for (int a = 0; a < D; ++a) x[a] = x_[i * D + a];
+        const double y_min = 0.5 * this->spacing_;
+        for (const auto& c : walls) {
+            const vec3 wall_v = c.velocity_at(x);
+            c.for_each_wall(x, 2 * h_, [&](double d, const vec3& normal) {
+                double rel[D], normal_part = 0, u2 = 0;
+                for (int a = 0; a < D; ++a) rel[a] = double(v_[i * D + a]) - wall_v[a], normal_part += rel[a] * normal[a];
+                for (int a = 0; a < D; ++a) rel[a] -= normal_part * normal[a], u2 += rel[a] * rel[a];
+                if (!(u2 > 0)) return;
+                const double u = std::sqrt(u2), u_tau = friction_velocity(u, std::max(d, y_min), prm_.nu);
+                const double slow = u_tau * u_tau * -2 * psi_.derivative(d) / u;
+                for (int a = 0; a < D; ++a) acc[a] -= slow * rel[a];
+            });
+        }
     }
 
     /// rho += dt d rho / dt by the continuity equation with density diffusion, at this step's
@@ -504,6 +564,7 @@ private:
     std::vector<float> acc_;
     std::vector<float> background_acc_;  // the transport velocity's a_b
     std::vector<float> carried_rho_;     // continuity: rho moved with the grid, D floats each
+    std::vector<float> bulk_;            // the bulk viscosity's pressure q per particle
     std::vector<float> position_, velocity_;  // per particle {x, rho}, {v, p / rho^2} (sph_pairs.hpp)
     bool have_acc_ = false;
     std::vector<float> gathered_walls_;  // across ranks: gather()'s wall states, {rho, p / rho^2} each

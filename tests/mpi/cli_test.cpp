@@ -284,6 +284,16 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
         "sph": {"h_ratio": 1.3, "alpha": 0.02, "wall_particles": true, "density": "continuity", "density_diffusion": 0.1},
         "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
+    // The same walls with the bulk viscosity (a pair pass after the density, whose sums the
+    // ghosts take from their owners) and the walls' friction.
+    write_bytes(dir / "bulk-dam-break.json", R"({"name": "bulk-dam-break", "solver": "sph", "dim": 2,
+        "particles": {"2d": 1250, "3d": 4000}, "duration": 1, "gravity": [0, -9.81, 0],
+        "domain": {"min": [0, 0, 0], "max": [2, 1, 1]},
+        "fluid": [{"type": "box", "min": [0, 0, 0], "max": [0.25, 0.5, 1]}],
+        "colliders": [{"name": "tank", "type": "box", "inside": true, "center": [1, 0.5, 0.5], "half": [1, 0.5, 0.5]}],
+        "sph": {"h_ratio": 1.3, "viscosity": "laminar", "wall_particles": true, "free_slip": true, "bulk_viscosity": 0.3,
+                "wall_friction": true},
+        "front": {"a": 0.25, "origin": 0, "axis": 0, "every_T": 0.02}})");
     struct scene_case {
         const char* options;
         std::size_t frames;  // the first, then one every `--every` steps
@@ -315,6 +325,7 @@ TEST(MpiCli, SimAcrossRanksIsTheOneProcessRun) {
         {"--scene dam-break --solver sph --dim 2 --particles 2 --steps 40 --every 20", 3, {{3, 1}, {4, 1}}, false, true},
         // The continuity density: rho is state that moves with its particle.
         {"continuity-dam-break.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
+        {"bulk-dam-break.json --steps 300 --every 100", 4, {{2, 1}, {3, 1}}},
     };
     // The release tree runs every case at 1 to 4 ranks of one thread, and the variants listed
     // with more threads. The sanitizer tree (rank counts 1 and 3) runs only the listed variants

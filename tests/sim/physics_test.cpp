@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "frnn/sim/run.hpp"
 #include "frnn/sim/solver.hpp"
 #include "scratch_dir.hpp"
+#include "wall_friction.hpp"
 
 using namespace frnn::sim;
 
@@ -342,20 +344,20 @@ TEST(SimPhysics, WallParticlesNeedABoxOfFluidNoPeriodicAxisAndABoundedDomain) {
 
 namespace {
 
-/// A standing sound wave u_x = U sin(2 pi x) in the periodic unit box (2D, 32^2 particles,
-/// c0 = 1, no viscosity, the continuity equation with density diffusion delta): the largest
-/// kinetic energy over the wave's last period before t over the initial one, and its time.
-std::pair<double, double> sound_wave_energy(double delta, double t) {
+/// A standing sound wave u_x = U sin(2 pi x) (or, with shear, the shear wave u_x = U sin(2 pi y))
+/// in the periodic unit box (2D, 32^2 particles, c0 = 1, the ideal equation of state, the
+/// sph keys sph_keys): the largest kinetic energy over the last
+/// unit of time before t over the initial one, and its time.
+std::pair<double, double> wave_energy(const std::string& sph_keys, double t, bool shear = false) {
     const std::string text = R"({"name": "sound", "solver": "sph", "dim": 2, "particles": 1024, "gravity": [0, 0, 0],
       "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "periodic": [1, 1],
       "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}],
-      "sph": {"sound_speed": 1, "eos": "ideal", "clamp_negative_pressure": false, "alpha": 0,
-              "density": "continuity", "density_diffusion": )" + std::to_string(delta) + "}}";
+      "sph": {"sound_speed": 1, "eos": "ideal", "clamp_negative_pressure": false, )" + sph_keys + "}}";
     auto sol = make_solver(parse_scene(text, "sound"), 2);
     const double U = 0.01, pi = 3.14159265358979323846;
     auto v = sol->view();
     std::vector<float> by_id(2 * v.n, 0);
-    for (std::size_t i = 0; i < v.n; ++i) by_id[2 * v.id[i]] = float(U * std::sin(2 * pi * v.x[2 * i]));
+    for (std::size_t i = 0; i < v.n; ++i) by_id[2 * v.id[i]] = float(U * std::sin(2 * pi * v.x[2 * i + (shear ? 1 : 0)]));
     sol->set_velocities(by_id);
     auto energy = [&] {
         const auto w = sol->view();
@@ -373,6 +375,11 @@ std::pair<double, double> sound_wave_energy(double delta, double t) {
     return {largest / e0, when};
 }
 
+/// The sound wave with the continuity density and density diffusion delta.
+std::pair<double, double> sound_wave_energy(double delta, double t) {
+    return wave_energy(R"("alpha": 0, "density": "continuity", "density_diffusion": )" + std::to_string(delta), t);
+}
+
 }  // namespace
 
 // "density": "continuity": without diffusion a sound wave keeps its energy; Molteni and
@@ -387,4 +394,77 @@ TEST(SimPhysics, DensityDiffusionDampsASoundWaveAtItsRate) {
                 "exp(-delta h c0 k^2 t) = %.4f\n", kept, damped, delta, when, damped / kept, expected);
     EXPECT_GT(kept, 0.9);
     EXPECT_NEAR(damped / kept / expected, 1.0, 0.1);
+}
+
+// "bulk_viscosity": q = zeta d rho / dt approximates the bulk viscous stress zeta rho div v, which
+// damps a sound wave's energy as exp(-zeta k^2 t), zeta = alpha_b h c0; a shear wave, divergence
+// free, it leaves alone, where the artificial viscosity damps both.
+TEST(SimPhysics, BulkViscosityDampsSoundAtItsRateAndLeavesShearAlone) {
+    const double t = 3, alpha_b = 0.2, h = 1.2 / 32, k = 2 * 3.14159265358979323846;
+    const double kept = wave_energy(R"("alpha": 0)", t).first;
+    const auto [damped, when] = wave_energy(R"("alpha": 0, "bulk_viscosity": 0.2)", t);
+    const double rate = -std::log(damped / kept) / (k * k * when);
+    std::printf("[ bulk viscosity ] sound wave energy kept %.4f without, %.4f with alpha_b 0.2 at t = %.3f: zeta %.5f, "
+                "alpha_b h c0 = %.5f\n", kept, damped, when, rate, alpha_b * h);
+    EXPECT_GT(kept, 0.9);
+    EXPECT_NEAR(rate / (alpha_b * h), 1.0, 0.15);
+    // The shear wave's largest energy from t = 1 to 2 (at t = 1: it decays).
+    const double shear = wave_energy(R"("alpha": 0)", 2, true).first;
+    const double shear_bulk = wave_energy(R"("alpha": 0, "bulk_viscosity": 0.2)", 2, true).first;
+    const double shear_artificial = wave_energy(R"("alpha": 0.2)", 2, true).first;
+    std::printf("[ bulk viscosity ] shear wave energy, t = 1 to 2: %.6f without, %.6f with alpha_b 0.2, %.6f with alpha 0.2\n",
+                shear, shear_bulk, shear_artificial);
+    EXPECT_NEAR(shear_bulk / shear, 1.0, 1e-4);
+    EXPECT_LT(shear_artificial / shear, 0.99);
+}
+
+namespace {
+
+/// A water layer 0.05 m deep on the floor of a 1 m long tank, no gravity, sliding at speed u
+/// along x: the mean x and y accelerations over the particles 0.3 to 0.7 m along, after one step.
+std::pair<double, double> sliding_layer_acceleration(double u, bool friction, double* spacing) {
+    const std::string text = R"({"name": "sliding", "solver": "sph", "dim": 2, "particles": 2000, "gravity": [0, 0, 0],
+      "domain": {"min": [0, 0, 0], "max": [1, 0.2, 1]},
+      "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.05, 1]}],
+      "colliders": [{"type": "box", "inside": true, "center": [0.5, 0.1, 0.5], "half": [0.5, 0.1, 0.5]}],
+      "sph": {"sound_speed": 20, "h_ratio": 1.3, "alpha": 0, "wall_particles": true, "free_slip": true, "nu": 1e-6,
+              "wall_friction": )" + std::string(friction ? "true" : "false") + "}}";
+    auto sol = make_solver(parse_scene(text, "sliding"), 2);
+    *spacing = sol->spacing();
+    auto v = sol->view();
+    std::vector<float> by_id(2 * v.n, 0);
+    for (std::size_t i = 0; i < v.n; ++i) by_id[2 * v.id[i]] = float(u);
+    sol->set_velocities(by_id);
+    profiler p;
+    sol->step(p);
+    v = sol->view();
+    double ax = 0, ay = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < v.n; ++i) {
+        if (v.x[2 * i] < 0.3 || v.x[2 * i] > 0.7) continue;
+        ax += (double(v.v[2 * i]) - u) / sol->last_dt(), ay += double(v.v[2 * i + 1]) / sol->last_dt(), ++count;
+    }
+    return {ax / double(count), ay / double(count)};
+}
+
+}  // namespace
+
+// "wall_friction": the floor takes the layer's momentum at its shear stress rho u_tau^2 per unit
+// of floor (the layer's mean deceleration times its depth is u_tau^2), with u_tau from the law of
+// the wall at a height between the first layer's, half a spacing, and the kernel's reach, 2h;
+// nothing across the floor, nothing at rest, nothing without it.
+TEST(SimPhysics, WallFrictionSlowsASlidingLayerAtTheWallsShearStress) {
+    const double u = 2, depth = 0.05;
+    double spacing = 0;
+    const auto [ax, ay] = sliding_layer_acceleration(u, true, &spacing);
+    const double lo = detail::friction_velocity(u, 2 * 1.3 * spacing, 1e-6), hi = detail::friction_velocity(u, spacing / 2, 1e-6);
+    std::printf("[ wall friction ] layer at %g m/s: -a depth = %.5f m^2/s^2, u_tau^2 from %.5f (2h) to %.5f (spacing / 2)\n", u,
+                -ax * depth, lo * lo, hi * hi);
+    EXPECT_GT(-ax * depth, lo * lo);
+    EXPECT_LT(-ax * depth, hi * hi);
+    const auto [ax_off, ay_off] = sliding_layer_acceleration(u, false, &spacing);
+    EXPECT_LT(std::abs(ax_off), 1e-2 * std::abs(ax));  // the float noise of the pressure terms
+    EXPECT_NEAR(ay, ay_off, 1e-2 * std::abs(ax));
+    const auto [ax_rest, ay_rest] = sliding_layer_acceleration(0, true, &spacing);
+    EXPECT_LT(std::abs(ax_rest), 1e-2 * std::abs(ax));
 }

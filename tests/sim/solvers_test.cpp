@@ -99,7 +99,7 @@ TEST(SimSolvers, WcsphOptionsGiveIdenticalPositionsAtOneAndTwoThreads) {
 // The WCSPH pair passes (sph_pairs.hpp) on the base level at one thread and on the AVX2 level
 // (where the CPU has it) at two and three: the same bits after 40 steps, in the 2D and 3D dam
 // breaks with wall particles (the 2D one also with the continuity equation and density
-// diffusion), a droplet without walls, and periodic boxes with the transport velocity, with
+// diffusion, and with the laminar viscosity, bulk viscosity and wall friction), a droplet without walls, and periodic boxes with the transport velocity, with
 // the laminar viscosity and with the continuity equation.
 TEST(SimSolvers, WcsphIdenticalOnEveryInstructionSetLevelAndThreadCount) {
     if (!frnn::simd_supported("avx2")) GTEST_SKIP() << "no AVX2 on this CPU: one level only";
@@ -110,9 +110,15 @@ TEST(SimSolvers, WcsphIdenticalOnEveryInstructionSetLevelAndThreadCount) {
     scene continuity = frnn::test::small_scene("dam-break", solver_kind::sph, 2, 1200);
     continuity.name = "continuity";
     continuity.sph.density = frnn::sim::sph_params::density_t::continuity;
+    scene bulk = frnn::test::small_scene("dam-break", solver_kind::sph, 2, 1200);
+    bulk.name = "bulk viscosity and wall friction";
+    bulk.sph.viscosity = frnn::sim::sph_params::viscosity_t::laminar;
+    bulk.sph.bulk_viscosity = 0.3;
+    bulk.sph.wall_friction = true;
     const scene scenes[] = {
         frnn::test::small_scene("dam-break", solver_kind::sph, 2, 1200),
         continuity,
+        bulk,
         frnn::test::small_scene("dam-break", solver_kind::sph, 3, 2000),
         frnn::test::small_scene("droplet", solver_kind::sph, 3, 1500),
         parse_scene(periodic + R"("background_pressure": 100000}})", "transport"),

@@ -86,6 +86,14 @@ struct sph_params {
     /// strength density_diffusion (delta; 0.1 is the literature's value, 0: none).
     enum class density_t { summation, continuity } density = density_t::summation;
     double density_diffusion = 0.1;
+    /// > 0: a bulk viscosity zeta = bulk_viscosity h c0 adds zeta d rho / dt to each
+    /// particle's pressure (and so to the walls' extrapolated pressure): it damps compression,
+    /// sound, and leaves a divergence-free flow alone (0: off).
+    double bulk_viscosity = 0;
+    /// The colliders' walls hold the fluid sliding along them back with the shear stress of a
+    /// smooth wall's law (log law, with the kinematic viscosity nu), spread over the fluid
+    /// within the kernel's reach of the wall (false: no such friction).
+    bool wall_friction = false;
 };
 
 /// Records the surge front: Z = (max x + spacing/2 - origin) / a along `axis`, against
