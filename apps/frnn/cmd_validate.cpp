@@ -18,7 +18,7 @@ namespace {
 
 struct validate_args {
     std::vector<std::string> cases;
-    std::string out = "validation", tolerances;
+    std::string out = "validation", tolerances, sph;
     int threads = 0;
     bool quick = false, quiet = false;
 };
@@ -29,6 +29,7 @@ void run_validate(const validate_args& a) {
     opt.out_dir = a.out;
     opt.threads = a.threads;
     opt.progress = !a.quiet;
+    opt.sph_json = a.sph;
     if (!a.tolerances.empty()) {
         std::ifstream in(a.tolerances);
         if (!in) throw error("cannot open tolerances file '" + a.tolerances + "'");
@@ -61,6 +62,9 @@ const register_command reg{"validate", [](CLI::App& app) {
         ->capture_default_str();
     c->add_option("--tolerances", args->tolerances,
                   "Tolerances JSON (default: the committed sim/data/validation-tolerances.json)");
+    c->add_option("--sph", args->sph,
+                  "JSON object of sph keys over the shipped dam break's section, for the dam-break, dam-break-pressure "
+                  "and hydrostatic cases, e.g. '{\"alpha\": 0.1}'");
     c->add_option("--threads", args->threads, "Threads (default: all)")->check(CLI::Range(1, 1024));
     c->add_flag("--quiet", args->quiet, "No progress on stderr");
     c->callback([args] { run_validate(*args); });

@@ -96,7 +96,7 @@ std::string signed_error_tables(const std::vector<int>& spacings, const std::vec
 
 case_output validate_dam_break(const case_context& context) {
     const std::vector<int> spacings = context.quick ? std::vector<int>{25} : std::vector<int>{25, 50, 100, 200};
-    const scene base = builtin_scene("dam-break");
+    const scene base = parse_scene(context.dam_break_scene, "dam-break");
     const double g = std::abs(base.gravity[1]);
     std::vector<run_result> runs;
     for (int k : spacings) {
@@ -112,7 +112,7 @@ case_output validate_dam_break(const case_context& context) {
         opt.progress = false;
         opt.print_table = false;
         if (context.progress) std::fprintf(stderr, "dam-break: spacing a/%d, %zu particles\n", k, *o.particles);
-        runs.push_back(run(builtin_scene_text("dam-break"), "dam-break", o, opt));
+        runs.push_back(run(context.dam_break_scene, "dam-break", o, opt));
         if (runs.back().front_errors.size() != martin_moyce().size())
             throw error("dam-break at a/" + std::to_string(k) + ": the run did not record the front up to T = " +
                         std::to_string(front_error_t_hi));

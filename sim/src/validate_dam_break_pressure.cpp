@@ -50,7 +50,7 @@ struct pressure_run {
 std::string label(const pressure_run& r) { return (r.dim == 3 ? "3D H/" : "H/") + std::to_string(r.k); }
 
 // In 3D the tank and the column are width_3d H wide, the sensors on the far wall's middle line.
-std::string tank_scene(int dim, std::size_t particles) {
+std::string tank_scene(int dim, std::size_t particles, const std::string& dam_break_scene) {
     const double L = tank_length * H, top = tank_height * H, W = (dim == 3 ? width_3d : 1.0) * H;
     char text[1024];
     std::snprintf(text, sizeof text, R"({"name": "dam-break-pressure", "solver": "sph", "dim": %d, "particles": %zu,
@@ -60,9 +60,9 @@ std::string tank_scene(int dim, std::size_t particles) {
       "colliders": [{"type": "box", "inside": true, "center": [%.17g, %.17g, %.17g], "half": [%.17g, %.17g, %.17g]}]})",
                   dim, particles, t_end * std::sqrt(H / g), -g, L, top, W, column_length * H, column_height * H, W,
                   L / 2, top / 2, W / 2, L / 2, top / 2, W / 2);
-    // The solver parameters a user gets: the shipped dam break's.
+    // The solver parameters a user gets: the shipped dam break's (or --sph's).
     scene s = parse_scene(text, "dam-break-pressure");
-    s.sph = builtin_scene("dam-break").sph;
+    s.sph = parse_scene(dam_break_scene, "dam-break").sph;
     return scene_to_json(s);
 }
 
@@ -71,7 +71,7 @@ pressure_run measure(int dim, int k, const case_context& context) {
     r.dim = dim, r.k = k;
     // The column, 2H x H (x width_3d H in 3D), at spacing H/k.
     const std::size_t particles = dim == 2 ? std::size_t(2 * k * k) : std::size_t(k) * k * k;
-    const scene s = parse_scene(tank_scene(dim, particles), "dam-break-pressure");
+    const scene s = parse_scene(tank_scene(dim, particles, context.dam_break_scene), "dam-break-pressure");
     const auto start = std::chrono::steady_clock::now();
     auto sol = make_solver(s, context.threads);
     profiler prof;

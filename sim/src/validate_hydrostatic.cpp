@@ -30,7 +30,7 @@ struct hydrostatic_result {
     double speed = 0;   // largest speed / (0.01 sqrt(g H)) over the samples
 };
 
-std::string tank_scene(int dim, std::size_t particles) {
+std::string tank_scene(int dim, std::size_t particles, const std::string& dam_break_scene) {
     char text[1024];
     std::snprintf(text, sizeof text, R"({"name": "hydrostatic", "solver": "sph", "dim": %d, "particles": %zu,
       "duration": %g, "gravity": [0, -9.81, 0],
@@ -40,8 +40,8 @@ std::string tank_scene(int dim, std::size_t particles) {
                   dim, particles, duration, depth_H, 2 * depth_H, depth_H, depth_H, depth_H, depth_H, depth_H / 2,
                   depth_H, depth_H / 2, depth_H / 2, depth_H, depth_H / 2);
     std::string json = text;
-    // The solver parameters a user gets: the shipped dam break's.
-    const scene shipped = builtin_scene("dam-break");
+    // The solver parameters a user gets: the shipped dam break's (or --sph's).
+    const scene shipped = parse_scene(dam_break_scene, "dam-break");
     scene s = parse_scene(json, "hydrostatic");
     s.sph = shipped.sph;
     s.sph.settle_time = settle_time;
@@ -53,7 +53,7 @@ hydrostatic_result measure(int dim, int k, const case_context& context) {
     r.dim = dim;
     r.k = k;
     const std::size_t target = std::size_t(dim == 2 ? k * k : k * k * k);
-    const scene s = parse_scene(tank_scene(dim, target), "hydrostatic");
+    const scene s = parse_scene(tank_scene(dim, target, context.dam_break_scene), "hydrostatic");
     auto sol = make_solver(s, context.threads);
     profiler prof;
     const double rho0 = sol->rest_density(), g = 9.81;

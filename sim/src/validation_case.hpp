@@ -12,6 +12,9 @@ struct case_context {
     std::string dir;  ///< the case's folder inside the output folder (exists)
     int threads = 0;
     bool progress = true;
+    /// The dam break's scene text, the `sph` section of which the WCSPH cases run with: the
+    /// shipped one, or with validation_options::sph_json over it.
+    std::string dam_break_scene;
 };
 
 struct case_output {

@@ -5,7 +5,9 @@
 // `frnn validate` runs; its report (report.md with PNG plots, errors.json) goes to a folder.
 //
 // Cases: "dam-break" (2D WCSPH, the surge front against both series of Martin & Moyce 1952,
-// particle spacing a/25, a/50 and a/100; quick: a/25); "hydrostatic" (WCSPH water at rest in
+// particle spacing a/25, a/50, a/100 and a/200; quick: a/25); "dam-break-pressure" (the
+// pressure on the far wall against Buchner 2002 and Lobovsky et al. 2014, 2D at H/50, H/100,
+// H/200 and 3D at H/40; quick: 2D H/20); "hydrostatic" (WCSPH water at rest in
 // a tank: pressure slope, bottom pressure and largest speed after settling, 2D at H/20, H/40,
 // H/80 and 3D at H/10, H/15, H/20; quick: H/20 and H/10); "taylor-green" (the 2D vortex at
 // Re = 100 in a periodic box, WCSPH with the laminar viscosity: the kinetic energy's decay
@@ -24,6 +26,10 @@ struct validation_options {
     std::string tolerances_json;  ///< empty: the committed tolerances
     int threads = 0;              ///< 0: all hardware threads
     bool progress = true;         ///< one line per run on stderr
+    /// A JSON object of `sph` keys laid over the shipped dam break's section, which the
+    /// dam-break, dam-break-pressure and hydrostatic cases run with (empty: that section as
+    /// shipped); taylor-green has its own. A bad key or value is an error naming it.
+    std::string sph_json;
 };
 
 /// One error figure of a case, e.g. ("dam-break", "a/100, a = 2.25 in").
