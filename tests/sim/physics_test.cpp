@@ -420,6 +420,18 @@ TEST(SimPhysics, BulkViscosityDampsSoundAtItsRateAndLeavesShearAlone) {
 
 namespace {
 
+/// The 2D scene `text` with every particle moving at (u, 0), after one step.
+auto one_step_at(const std::string& text, double u) {
+    auto sol = make_solver(parse_scene(text, "layer"), 2);
+    const auto v = sol->view();
+    std::vector<float> by_id(2 * v.n, 0);
+    for (std::size_t i = 0; i < v.n; ++i) by_id[2 * v.id[i]] = float(u);
+    sol->set_velocities(by_id);
+    profiler p;
+    sol->step(p);
+    return sol;
+}
+
 /// A water layer 0.05 m deep on the floor of a 1 m long tank, no gravity, sliding at speed u
 /// along x: the mean x and y accelerations over the particles 0.3 to 0.7 m along, after one step.
 std::pair<double, double> sliding_layer_acceleration(double u, bool friction, double* spacing) {
@@ -429,15 +441,9 @@ std::pair<double, double> sliding_layer_acceleration(double u, bool friction, do
       "colliders": [{"type": "box", "inside": true, "center": [0.5, 0.1, 0.5], "half": [0.5, 0.1, 0.5]}],
       "sph": {"sound_speed": 20, "h_ratio": 1.3, "alpha": 0, "wall_particles": true, "free_slip": true, "nu": 1e-6,
               "wall_friction": )" + std::string(friction ? "true" : "false") + "}}";
-    auto sol = make_solver(parse_scene(text, "sliding"), 2);
+    const auto sol = one_step_at(text, u);
     *spacing = sol->spacing();
-    auto v = sol->view();
-    std::vector<float> by_id(2 * v.n, 0);
-    for (std::size_t i = 0; i < v.n; ++i) by_id[2 * v.id[i]] = float(u);
-    sol->set_velocities(by_id);
-    profiler p;
-    sol->step(p);
-    v = sol->view();
+    const auto v = sol->view();
     double ax = 0, ay = 0;
     std::size_t count = 0;
     for (std::size_t i = 0; i < v.n; ++i) {
@@ -467,4 +473,33 @@ TEST(SimPhysics, WallFrictionSlowsASlidingLayerAtTheWallsShearStress) {
     EXPECT_NEAR(ay, ay_off, 1e-2 * std::abs(ax));
     const auto [ax_rest, ay_rest] = sliding_layer_acceleration(0, true, &spacing);
     EXPECT_LT(std::abs(ax_rest), 1e-2 * std::abs(ax));
+}
+
+// The same friction from a moving wall: a layer at rest on a bed sliding at -u (the kernel
+// integral's walls, a channel periodic along x) is dragged as a layer sliding at u over a bed
+// at rest is slowed: the friction sees the velocity relative to the wall.
+TEST(SimPhysics, WallFrictionOfAMovingBedIsThatOfTheRelativeVelocity) {
+    const double u = 2, depth = 0.05;
+    auto mean_acceleration = [&](double fluid_u, double bed_u, double* spacing) {
+        const std::string text = R"({"name": "channel", "solver": "sph", "dim": 2, "particles": 2000, "gravity": [0, 0, 0],
+          "domain": {"min": [0, 0, 0], "max": [1, 0.2, 1]}, "periodic": [1, 0, 0],
+          "fluid": [{"type": "box", "min": [0, 0, 0], "max": [1, 0.05, 1]}],
+          "colliders": [{"type": "box", "center": [0.5, -0.5, 0.5], "half": [2, 0.5, 1],
+                         "motion": {"velocity": [)" + std::to_string(bed_u) + R"(, 0, 0]}}],
+          "sph": {"sound_speed": 20, "h_ratio": 1.3, "alpha": 0, "nu": 1e-6, "wall_friction": true}})";
+        const auto sol = one_step_at(text, fluid_u);
+        *spacing = sol->spacing();
+        const auto v = sol->view();
+        double ax = 0;
+        for (std::size_t i = 0; i < v.n; ++i) ax += (double(v.v[2 * i]) - fluid_u) / sol->last_dt();
+        return ax / double(v.n);
+    };
+    double spacing = 0;
+    const double sliding = mean_acceleration(u, 0, &spacing), dragged = mean_acceleration(0, -u, &spacing);
+    const double lo = detail::friction_velocity(u, 2 * 1.3 * spacing, 1e-6), hi = detail::friction_velocity(u, spacing / 2, 1e-6);
+    std::printf("[ wall friction ] -a depth: layer sliding %.5f, bed moving %.5f m^2/s^2 (law: %.5f to %.5f)\n",
+                -sliding * depth, -dragged * depth, lo * lo, hi * hi);
+    EXPECT_GT(-sliding * depth, lo * lo);
+    EXPECT_LT(-sliding * depth, hi * hi);
+    EXPECT_NEAR(dragged, sliding, 1e-3 * std::abs(sliding));
 }
