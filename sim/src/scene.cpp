@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -168,6 +170,7 @@ fluid_block read_block(reader& r) {
         b.radius = r.number("radius", b.radius, 1e-9);
     }
     b.velocity = r.vector("velocity", b.velocity);
+    b.jitter = r.number("jitter", b.jitter, 0, 0.5);
     r.finish();
     return b;
 }
@@ -322,6 +325,21 @@ void apply(scene& s, const scene_overrides& o) {
     }
 }
 
+namespace {
+/// A number in [0, 1) from the indices alone (splitmix64's finaliser over each in turn): the
+/// same jitter in every run, on every rank and at every thread count.
+double unit_hash(std::initializer_list<std::uint64_t> indices) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (const std::uint64_t v : indices) {
+        h += v + 0x9e3779b97f4a7c15ULL;
+        h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+        h ^= h >> 31;
+    }
+    return double(h >> 11) * 0x1.0p-53;
+}
+}  // namespace
+
 seeded_particles seed(const scene& s) {
     const int dim = s.dim;
     auto inside = [&](const fluid_block& b, const vec3& p) {
@@ -374,7 +392,8 @@ seeded_particles seed(const scene& s) {
                         " hold " + std::to_string(visited) + " points, more than " + std::to_string(std::llround(most)) +
                         " (8 per particle, plus 2^20): a block much thinner than the spacing on some axis");
     }
-    for (const auto& b : s.fluid) {
+    for (std::size_t block = 0; block < s.fluid.size(); ++block) {
+        const auto& b = s.fluid[block];
         vec3 lo, hi;
         std::array<std::int64_t, 3> n{1, 1, 1};
         for (int a = 0; a < dim; ++a) {
@@ -394,6 +413,10 @@ seeded_particles seed(const scene& s) {
                     }
                     if (!inside(b, p)) continue;
                     for (int a = 0; a < dim; ++a) {
+                        if (b.jitter > 0) {
+                            const double step = b.kind == fluid_block::kind_t::box ? (hi[a] - lo[a]) / double(n[a]) : spacing;
+                            p[a] += b.jitter * step * (2 * unit_hash({block, std::uint64_t(i), std::uint64_t(j), std::uint64_t(k), std::uint64_t(a)}) - 1);
+                        }
                         out.x.push_back(float(p[a]));
                         out.v.push_back(float(b.velocity[a]));
                     }

@@ -25,6 +25,7 @@ json block_json(const fluid_block& b) {
         j["radius"] = b.radius;
     }
     j["velocity"] = vector_json(b.velocity);
+    if (b.jitter > 0) j["jitter"] = b.jitter;
     return j;
 }
 

@@ -2,6 +2,8 @@
 // message naming the key and what was expected.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "frnn/error.hpp"
@@ -88,4 +90,41 @@ TEST(SimScenes, TwoDimensionalOverrideFlattens) {
     for (const auto& c : s.colliders) EXPECT_EQ(c.center[2], 0);
     const auto p = seed(s);
     EXPECT_EQ(p.x.size(), 2 * p.count);
+}
+
+TEST(SimScenes, JitterMovesEachCoordinateWithinItsShareOfTheLatticeStep) {
+    for (int dim : {2, 3}) {
+        const std::string d = std::to_string(dim);
+        const auto scene_with = [&](const std::string& jitter) {
+            return parse_scene(R"({"dim": )" + d + R"(, "particles": 1000, "domain": {"min": [0,0,0], "max": [1,1,1]},
+                "fluid": [{"type": "box", "min": [0,0,0], "max": [0.5,0.4,0.3])" + jitter + "}]}", "jitter.json");
+        };
+        const scene lattice_scene = scene_with(""), jittered_scene = scene_with(R"(, "jitter": 0.3)");
+        const seeded_particles lattice = seed(lattice_scene), jittered = seed(jittered_scene);
+        ASSERT_EQ(jittered.count, lattice.count);
+        ASSERT_GT(lattice.count, 500u);
+        // The box's lattice step per axis: its width over its particle count along it.
+        double step[3] = {0, 0, 0};
+        const double width[3] = {0.5, 0.4, 0.3};
+        for (int a = 0; a < dim; ++a) step[a] = width[a] / std::round(width[a] / lattice.spacing);
+        double largest = 0, sum = 0;
+        for (std::size_t i = 0; i < lattice.count; ++i)
+            for (int a = 0; a < dim; ++a) {
+                const std::size_t k = i * std::size_t(dim) + std::size_t(a);
+                const double moved = (double(jittered.x[k]) - lattice.x[k]) / step[a];
+                ASSERT_LE(std::abs(moved), 0.3 + 1e-5) << dim << "D particle " << i << " axis " << a;
+                largest = std::max(largest, std::abs(moved));
+                sum += moved;
+            }
+        // Uniform in [-0.3, 0.3]: the extremes are reached and the mean is near 0.
+        EXPECT_GT(largest, 0.29) << dim << "D";
+        EXPECT_LT(std::abs(sum / double(lattice.count * std::size_t(dim))), 0.02) << dim << "D";
+        // The same positions in every run and after the scene is written and read back.
+        EXPECT_EQ(seed(jittered_scene).x, jittered.x);
+        EXPECT_EQ(seed(parse_scene(scene_to_json(jittered_scene), "back.json")).x, jittered.x);
+        EXPECT_EQ(lattice_scene.fluid[0].jitter, 0);
+    }
+    std::string j = minimal;
+    const std::string e = error_of(j.substr(0, j.size() - 3) + R"(, "jitter": 0.6}]})");
+    EXPECT_NE(e.find("key 'fluid[0].jitter': expected a number in [0, 0.5], got 0.6"), std::string::npos) << e;
 }

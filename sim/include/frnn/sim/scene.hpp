@@ -32,6 +32,9 @@ struct fluid_block {
     vec3 center{0, 0, 0};             ///< sphere
     double radius = 0.5;
     vec3 velocity{0, 0, 0};           ///< initial velocity
+    /// Each coordinate moved off the lattice by up to jitter lattice steps, uniform and the same
+    /// in every run (a hash of the block and lattice indices); 0 to 0.5, 0 = the lattice.
+    double jitter = 0;
 };
 
 /// Clavet et al. 2005. Stiffnesses are dimensionless: one relaxation moves a particle by
