@@ -1,6 +1,9 @@
 #!/usr/bin/python3
 """Counts the skipped tests of one test tree and names the instruction-set levels that ran.
 
+It also names the tests that tests/mpi/retry_lsan_tracer.cmake ran twice, after LeakSanitizer's
+tracer crashed at exit with every test passed.
+
     scripts/test_summary.py TREE JUNIT.xml [--allowed tests/skips.txt] [--strict]
     scripts/test_summary.py --self-test
 
@@ -27,6 +30,8 @@ from pathlib import Path
 LEVELS = ("base", "avx2", "avx512")
 LEVEL_LINE = re.compile(r"frnn oracle tests at instruction-set level: (\w+)")
 GTEST_SKIPPED = re.compile(r"^\[  SKIPPED \] ([\w/.]+\.[\w/]+)", re.MULTILINE)
+# tests/mpi/retry_lsan_tracer.cmake's line when it ran a suite twice.
+RETRIED = "retry_lsan_tracer: running the suite once more"
 # Terminal colours, as GoogleTest prints them under mpirun, and as ctest's report escapes them.
 COLOUR = re.compile(r"(\x1b|\[NON-XML-CHAR-0x1B\])\[[0-9;]*m")
 
@@ -63,6 +68,12 @@ def skips_and_levels(junit: Path) -> tuple[list[str], set[str], int, int]:
     return skipped, levels, passed, failed
 
 
+def retried(junit: Path) -> list[str]:
+    """The tests run twice because LeakSanitizer's tracer crashed at exit (retry_lsan_tracer.cmake)."""
+    root = ElementTree.parse(junit).getroot()
+    return [case.get("name", "") for case in root.iter("testcase") if RETRIED in (case.findtext("system-out") or "")]
+
+
 def summarize(tree: str, junit: Path, allowed_file: Path, strict: bool) -> int:
     allowed = read_allowed(allowed_file)
     skipped, levels, passed, failed = skips_and_levels(junit)
@@ -77,6 +88,9 @@ def summarize(tree: str, junit: Path, allowed_file: Path, strict: bool) -> int:
         print(f"  skipped {name}: {reason}")
     for name, _ in unlisted:
         print(f"  SKIPPED, NOT LISTED: {name}")
+    again = retried(junit)
+    if again:
+        print(f"{tree} tree: {len(again)} run twice after LeakSanitizer's tracer crashed at exit: {', '.join(again)}")
     ran = [level for level in LEVELS if level in levels]
     print(f"{tree} tree: oracle tests ran at " + (", ".join(ran) if ran else "no instruction-set level"))
     for level in LEVELS:
@@ -95,7 +109,8 @@ def self_test() -> int:
   <testcase name="mpi" status="run"><system-out>[NON-XML-CHAR-0x1B][0;32m[  SKIPPED ] [NON-XML-CHAR-0x1B][mM.one (0 ms)
 [  SKIPPED ] M.one (0 ms)
 frnn oracle tests at instruction-set level: avx2</system-out></testcase>
-  <testcase name="c" status="run"><system-out>frnn oracle tests at instruction-set level: base</system-out></testcase>
+  <testcase name="c" status="run"><system-out>frnn oracle tests at instruction-set level: base
+retry_lsan_tracer: running the suite once more</system-out></testcase>
 </testsuite>"""
     with tempfile.TemporaryDirectory() as scratch, contextlib.redirect_stdout(io.StringIO()), \
             contextlib.redirect_stderr(io.StringIO()):
@@ -103,6 +118,7 @@ frnn oracle tests at instruction-set level: avx2</system-out></testcase>
         junit.write_text(report)
         skipped, levels, passed, failed = skips_and_levels(junit)
         ok = skipped == ["a", "mpi/M.one"] and levels == {"avx2", "base"} and (passed, failed) == (2, 0)
+        ok = ok and retried(junit) == ["c"]
         allowed.write_text("release a listed on purpose\n* mpi/M\\.one needs two ranks\n")
         ok = ok and summarize("release", junit, allowed, True) == 0
         allowed.write_text("asan a only in the other tree\n")
