@@ -1,9 +1,9 @@
 # Runs one mpirun suite of the sanitizer tree (cmake -P: MPIEXEC NP_FLAG RANKS SUITE runs
-# `MPIEXEC NP_FLAG RANKS --oversubscribe --allow-run-as-root SUITE`), and
-# runs it once more when, and only when, its first run failed because LeakSanitizer's own tracer
-# crashed at exit: "Tracer caught signal" and "LeakSanitizer has encountered a fatal error"
-# (google/sanitizers#1353, intermittent), with GoogleTest's "[  PASSED  ]", no test failed and no
-# leak, memory error or undefined behaviour reported. Any other failure fails at once; the same crash twice fails.
+# `MPIEXEC NP_FLAG RANKS --oversubscribe --allow-run-as-root SUITE`), and runs it once more
+# when, and only when, its first run failed because LeakSanitizer's own tracer crashed at exit:
+# "Tracer caught signal" and "LeakSanitizer has encountered a fatal error" (google/sanitizers#1353,
+# intermittent), with GoogleTest's "[  PASSED  ]", no test failed and no leak, memory error or
+# undefined behaviour reported. Any other failure fails at once; the same crash twice fails.
 # Only the last run's output is printed whole, so its test and skip lines count once.
 cmake_minimum_required(VERSION 3.25)
 

@@ -11,7 +11,7 @@ string(RANDOM LENGTH 12 tag)
 set(calls_file ${tmp}/retry-lsan-tracer-${tag}.calls)
 set(problems "")
 
-# SCENARIO must end with exit code 0 (want_ok) or not, after CALLS runs of the suite.
+# The wrapper on SCENARIO must succeed (want_ok TRUE) or fail (FALSE) after want_calls runs.
 function(expect scenario want_ok want_calls)
   file(REMOVE ${calls_file})
   execute_process(COMMAND ${CMAKE_COMMAND} -E env FAKE_MPIEXEC_CALLS=${calls_file}
